@@ -1,0 +1,41 @@
+#pragma once
+// Procedural meshes: the paper's double helix and a box. Both are exact
+// functions of their parameters (same parameters, same mesh, bit for bit).
+#include <array>
+#include <string>
+
+#include "common/mesh.hpp"
+
+namespace descent {
+
+// Two intertwined helical tubes (the second rotated by half a turn about the
+// axis) joined by end caps. The axis is +y (gravity pulls along -y in the
+// default scenes); the body spans y in [0, height]. `resolution` is the one
+// knob: tet count grows with its cube, and the named presets below reproduce
+// the paper's four sizes.
+struct DoubleHelixParams {
+  double resolution = 1.0;
+  double helix_radius = 0.25;  // axis to tube centre, metres
+  double tube_radius = 0.08;
+  double pitch = 0.5;          // rise per turn
+  double turns = 2.0;
+};
+
+// Resolution of the paper's sizes: "41k", "82k", "158k", "316k".
+// Throws InputError naming the preset and the valid names otherwise.
+double double_helix_preset_resolution(const std::string& name);
+
+Mesh make_double_helix(const DoubleHelixParams& params);
+
+// An axis-aligned box of cells[0] x cells[1] x cells[2] hexahedral cells over
+// [origin, origin + size], each split into 5 or 6 positively oriented tets.
+struct BoxParams {
+  std::array<int, 3> cells{4, 4, 4};
+  std::array<double, 3> size{1.0, 1.0, 1.0};
+  std::array<double, 3> origin{0.0, 0.0, 0.0};
+  int tets_per_cell = 6;
+};
+
+Mesh make_box(const BoxParams& params);
+
+}  // namespace descent

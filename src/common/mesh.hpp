@@ -1,0 +1,23 @@
+#pragma once
+// A whole tetrahedral mesh as read from a file or made by a generator, before
+// partitioning. Layout: positions is xyz-interleaved (3 * num_vertices doubles,
+// SI metres); tets holds 4 zero-based vertex indices per tet, each positively
+// oriented (det[x1-x0, x2-x0, x3-x0] > 0) once a reader has validated it.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace descent {
+
+using index_t = std::int32_t;  // vertex and tet indices; 2^31 tets is far beyond one run
+
+struct Mesh {
+  std::vector<double> positions;
+  std::vector<index_t> tets;
+  std::string source;  // file name or generator description, for messages
+
+  index_t num_vertices() const { return static_cast<index_t>(positions.size() / 3); }
+  index_t num_tets() const { return static_cast<index_t>(tets.size() / 4); }
+};
+
+}  // namespace descent

@@ -1,0 +1,88 @@
+#pragma once
+// Frames of one run, written by all ranks into one HDF5 file with parallel
+// HDF5 (no gather to rank 0), plus an XDMF index that ParaView and meshio open
+// as a time series. Vertices and tets are stored in the input mesh's order,
+// whatever the rank count.
+//
+// File layout (DIR/frames.h5):
+//   /mesh/tets               int32 [num_tets, 4]      global vertex ids, input order
+//   /mesh/rest_positions     float64 [num_vertices, 3]
+//   /frames/NNNNNN/positions float64 [num_vertices, 3] one group per written frame
+//   attribute "time" (float64) on each frame group
+// DIR/frames.xdmf is rewritten after every frame and the HDF5 file flushed,
+// so a run killed mid-way leaves a readable series of every completed frame.
+#include <mpi.h>
+
+#include <memory>
+#include <span>
+#include <string>
+
+#include "common/mesh.hpp"
+
+namespace descent {
+
+struct FrameWriterLayout {
+  index_t num_global_vertices = 0;
+  index_t num_global_tets = 0;
+  // Vertices this rank writes (each global vertex is written by exactly one
+  // rank): their global ids, ascending or not.
+  std::span<const index_t> owned_vertex_ids;
+  // Tets this rank writes (each global tet by exactly one rank): their global
+  // tet ids and their 4 global vertex ids each (4 * size entries).
+  std::span<const index_t> tet_ids;
+  std::span<const index_t> tet_vertices;
+  // Rest positions of the owned vertices, 3 per vertex in owned_vertex_ids order.
+  std::span<const double> owned_rest_positions;
+};
+
+class FrameWriter {
+ public:
+  // Collective over `comm`. Creates DIR (and parents) if needed; the caller
+  // decides beforehand whether an existing DIR may be reused.
+  FrameWriter(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout);
+  ~FrameWriter();
+  FrameWriter(const FrameWriter&) = delete;
+  FrameWriter& operator=(const FrameWriter&) = delete;
+
+  // Collective. `owned_positions` holds 3 doubles per owned vertex, in the
+  // order of layout.owned_vertex_ids.
+  void write_frame(int frame, double time, std::span<const double> owned_positions);
+
+  std::string h5_path() const;
+  std::string xdmf_path() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// One row per simulated frame, written by rank 0 to DIR/stats.csv and flushed
+// per row.
+struct FrameStats {
+  int frame = 0;
+  double sim_time = 0;
+  int iterations = 0;
+  int rollbacks = 0;
+  double alpha = 0;
+  double energy = 0;  // at the last accepted energy check
+  double wall_ms = 0;
+  double halo_ms = 0;
+  double allreduce_ms = 0;
+};
+
+class StatsWriter {
+ public:
+  // Opens DIR/stats.csv on rank 0 of comm (other ranks hold nothing).
+  StatsWriter(MPI_Comm comm, const std::string& dir);
+  ~StatsWriter();
+  StatsWriter(const StatsWriter&) = delete;
+  StatsWriter& operator=(const StatsWriter&) = delete;
+  void write(const FrameStats& row);  // rank 0 writes; others ignore
+  std::string path() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace descent
