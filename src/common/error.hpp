@@ -40,11 +40,11 @@ std::string concat(const Args&... args) {
 }  // namespace descent
 
 // Always checked, in every build type.
-#define DESCENT_VERIFY(cond, ...)                                                        \
-  do {                                                                                   \
-    if (!(cond))                                                                         \
-      throw ::descent::LogicError(::descent::detail::concat(                             \
-          __FILE__, ":", __LINE__, ": check '", #cond, "' failed: ", __VA_ARGS__));      \
+#define DESCENT_VERIFY(cond, ...)                                                                 \
+  do {                                                                                            \
+    if (!(cond))                                                                                  \
+      throw ::descent::LogicError(::descent::detail::concat(__FILE__, ":", __LINE__, ": check '", \
+                                                            #cond, "' failed: ", __VA_ARGS__));   \
   } while (0)
 
 // Checked in debug builds only (hot loops).

@@ -1,0 +1,90 @@
+#pragma once
+// CPU (OpenMP) loops over element and vertex ranges. They call the inline
+// math of kernels/element.hpp and are the oracle for other backends.
+//
+// Layout: x is xyz-interleaved local positions (3 per vertex); tets holds 4
+// local vertex ids per tet; rest one TetRest per tet. Per-corner outputs are
+// 12 reals per tet: corner a of tet t at [12 t + 3 a, +3). Scatter to
+// vertices is a deterministic gather over a vertex -> (4 t + a) table, so the
+// result does not depend on the thread count.
+#include <cstdint>
+
+#include "common/mesh.hpp"
+#include "kernels/element.hpp"
+
+namespace descent::cpu {
+
+template <class Real>
+inline TetCorners<Real> load_corners(const Real* x, const index_t* tet) {
+  TetCorners<Real> c;
+  for (int a = 0; a < 4; ++a) {
+    const Real* p = x + 3 * static_cast<std::int64_t>(tet[a]);
+    c.x[a] = {p[0], p[1], p[2]};
+  }
+  return c;
+}
+
+// Per-corner gradients of tets [begin, end), and Hessian diagonals too when
+// `diag_out` is not null (one pass, F computed once per tet).
+template <class Real, class Model>
+void element_gradients(const Model& model, const Real* x, const index_t* tets,
+                       const TetRest<Real>* rest, index_t begin, index_t end, Real* grad_out,
+                       Real* diag_out) {
+#pragma omp parallel for schedule(static)
+  for (index_t t = begin; t < end; ++t) {
+    const TetCorners<Real> c = load_corners(x, tets + 4 * static_cast<std::int64_t>(t));
+    Vec3<Real> g[4];
+    element_gradient(model, rest[t], c, g);
+    Real* go = grad_out + 12 * static_cast<std::int64_t>(t);
+    for (int a = 0; a < 4; ++a) {
+      go[3 * a] = g[a].x;
+      go[3 * a + 1] = g[a].y;
+      go[3 * a + 2] = g[a].z;
+    }
+    if (diag_out) {
+      Vec3<Real> d[4];
+      element_hessian_diagonal(model, rest[t], c, d);
+      Real* dout = diag_out + 12 * static_cast<std::int64_t>(t);
+      for (int a = 0; a < 4; ++a) {
+        dout[3 * a] = d[a].x;
+        dout[3 * a + 1] = d[a].y;
+        dout[3 * a + 2] = d[a].z;
+      }
+    }
+  }
+}
+
+// Sum of V_e Psi(F_e) over tets [begin, end), accumulated in double.
+template <class Real, class Model>
+double element_energy_sum(const Model& model, const Real* x, const index_t* tets,
+                          const TetRest<Real>* rest, index_t begin, index_t end) {
+  double sum = 0;
+#pragma omp parallel for schedule(static) reduction(+ : sum)
+  for (index_t t = begin; t < end; ++t) {
+    sum += element_energy(model, rest[t], load_corners(x, tets + 4 * static_cast<std::int64_t>(t)));
+  }
+  return sum;
+}
+
+// out[3 v + i] = sum over the corners (4 t + a) listed for vertex v of
+// corner_values[12 t + 3 a + i], for vertices [begin, end). The table is CSR:
+// corners of v at corner_ids[offsets[v] .. offsets[v + 1]), ascending.
+template <class Real>
+void gather_corners(const index_t* offsets, const index_t* corner_ids, index_t begin, index_t end,
+                    const Real* corner_values, Real* out) {
+#pragma omp parallel for schedule(static)
+  for (index_t v = begin; v < end; ++v) {
+    Real s0 = 0, s1 = 0, s2 = 0;
+    for (index_t k = offsets[v]; k < offsets[v + 1]; ++k) {
+      const Real* c = corner_values + 3 * static_cast<std::int64_t>(corner_ids[k]);
+      s0 += c[0];
+      s1 += c[1];
+      s2 += c[2];
+    }
+    out[3 * v] = s0;
+    out[3 * v + 1] = s1;
+    out[3 * v + 2] = s2;
+  }
+}
+
+}  // namespace descent::cpu

@@ -1,0 +1,53 @@
+#pragma once
+// Element terms of the incremental potential for any energy-density model.
+// A model provides energy(F), stress(F) (first Piola-Kirchhoff P) and
+// hessian_diagonal(F, b, out): d2Psi along dF = e_i b_a^T for each corner a
+// and axis i (the diagonal of the 12x12 element Hessian divided by V).
+#include "kernels/tet.hpp"
+
+namespace descent {
+
+template <class Real>
+struct TetCorners {
+  Vec3<Real> x[4];
+};
+
+template <class Real, class Model>
+DESCENT_HOST_DEVICE inline Real element_energy(const Model& model, const TetRest<Real>& rest,
+                                               const TetCorners<Real>& c) {
+  const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);
+  return rest.volume * model.energy(f);
+}
+
+// grad[a] = V P b_a: the element's contribution to dE/dx of corner a.
+template <class Real, class Model>
+DESCENT_HOST_DEVICE inline void element_gradient(const Model& model, const TetRest<Real>& rest,
+                                                 const TetCorners<Real>& c, Vec3<Real> grad[4]) {
+  const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);
+  const Mat3<Real> p = model.stress(f);
+  for (int a = 0; a < 4; ++a) {
+    const Vec3<Real> pb = mul(p, corner_operator(rest.dm_inv, a));
+    grad[a] = {rest.volume * pb.x, rest.volume * pb.y, rest.volume * pb.z};
+  }
+}
+
+// diag[a] = V (d2Psi along e_x b_a^T, e_y b_a^T, e_z b_a^T): the element's
+// contribution to the Hessian diagonal of corner a. Not clamped: a model may
+// give negative curvature, the vertex update clamps the assembled total.
+template <class Real, class Model>
+DESCENT_HOST_DEVICE inline void element_hessian_diagonal(const Model& model,
+                                                         const TetRest<Real>& rest,
+                                                         const TetCorners<Real>& c,
+                                                         Vec3<Real> diag[4]) {
+  const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);
+  Vec3<Real> b[4];
+  for (int a = 0; a < 4; ++a) b[a] = corner_operator(rest.dm_inv, a);
+  model.hessian_diagonal(f, b, diag);
+  for (int a = 0; a < 4; ++a) {
+    diag[a].x *= rest.volume;
+    diag[a].y *= rest.volume;
+    diag[a].z *= rest.volume;
+  }
+}
+
+}  // namespace descent
