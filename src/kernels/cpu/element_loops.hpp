@@ -54,24 +54,33 @@ void element_gradients(const Model& model, const Real* x, const index_t* tets,
   }
 }
 
-// Sum of V_e Psi(F_e) over tets [begin, end), accumulated in double.
+// Sum of V_e Psi(F_e) over tets [begin, end), and the sum of the terms'
+// magnitudes (the scale of its round-off), accumulated in double.
+struct EnergySum {
+  double value = 0;
+  double magnitude = 0;
+};
+
 template <class Real, class Model>
-double element_energy_sum(const Model& model, const Real* x, const index_t* tets,
-                          const TetRest<Real>* rest, index_t begin, index_t end) {
-  double sum = 0;
-#pragma omp parallel for schedule(static) reduction(+ : sum)
+EnergySum element_energy_sum(const Model& model, const Real* x, const index_t* tets,
+                             const TetRest<Real>* rest, index_t begin, index_t end) {
+  double value = 0, magnitude = 0;
+#pragma omp parallel for schedule(static) reduction(+ : value, magnitude)
   for (index_t t = begin; t < end; ++t) {
-    sum += element_energy(model, rest[t], load_corners(x, tets + 4 * static_cast<std::int64_t>(t)));
+    const double e =
+        element_energy(model, rest[t], load_corners(x, tets + 4 * static_cast<std::int64_t>(t)));
+    value += e;
+    magnitude += e < 0 ? -e : e;
   }
-  return sum;
+  return {value, magnitude};
 }
 
-// out[3 v + i] = sum over the corners (4 t + a) listed for vertex v of
+// out[stride v + i] = sum over the corners (4 t + a) listed for vertex v of
 // corner_values[12 t + 3 a + i], for vertices [begin, end). The table is CSR:
 // corners of v at corner_ids[offsets[v] .. offsets[v + 1]), ascending.
 template <class Real>
 void gather_corners(const index_t* offsets, const index_t* corner_ids, index_t begin, index_t end,
-                    const Real* corner_values, Real* out) {
+                    const Real* corner_values, Real* out, int stride) {
 #pragma omp parallel for schedule(static)
   for (index_t v = begin; v < end; ++v) {
     Real s0 = 0, s1 = 0, s2 = 0;
@@ -81,9 +90,10 @@ void gather_corners(const index_t* offsets, const index_t* corner_ids, index_t b
       s1 += c[1];
       s2 += c[2];
     }
-    out[3 * v] = s0;
-    out[3 * v + 1] = s1;
-    out[3 * v + 2] = s2;
+    Real* o = out + static_cast<std::int64_t>(stride) * v;
+    o[0] = s0;
+    o[1] = s1;
+    o[2] = s2;
   }
 }
 

@@ -1,0 +1,53 @@
+#pragma once
+// The paper's method (paper 1, Algorithm 1; DESIGN §1): Jacobi-preconditioned
+// descent with Chebyshev acceleration, the Hessian diagonal re-evaluated every
+// M iterations, and step-length control by the total energy every
+// check_interval iterations: if the energy rose since the last check, roll
+// back to the checked state, alpha <- gamma alpha, restart Chebyshev; end the
+// step once alpha < alpha_min. Each step starts from alpha_prev / gamma
+// (capped at alpha_max). The energy check is the only collective.
+#include <vector>
+
+#include "io/scene.hpp"
+#include "solver/local_problem.hpp"
+
+namespace descent {
+
+// Positions and velocities of one rank's local vertices (xyz-interleaved).
+template <class Real>
+struct BodyState {
+  std::vector<Real> q, v, v_prev;
+  double time = 0;
+};
+
+template <class Real>
+BodyState<Real> rest_state(const LocalMesh& mesh);
+
+struct StepStats {
+  int iterations = 0;
+  int rollbacks = 0;
+  double alpha = 0;           // at the end of the step
+  double initial_energy = 0;  // eps of the initial guess
+  double energy = 0;          // eps at the last accepted check
+  // An accepted check may exceed the previous one by at most this much: the
+  // round-off of evaluating eps (see energy_roundoff), not a real rise.
+  double energy_tolerance = 0;
+  bool stalled = false;  // alpha fell below alpha_min before the iteration budget
+};
+
+template <class Real>
+class ChebyshevDescent {
+ public:
+  ChebyshevDescent(LocalProblem<Real>& problem, const SolverSpec& spec);
+  StepStats step(BodyState<Real>& state);
+
+ private:
+  void initial_guess(const BodyState<Real>& state);
+
+  LocalProblem<Real>& problem_;
+  SolverSpec spec_;
+  double alpha_;
+  std::vector<Real> y_, qt_, q_, q_prev_, q_checked_, q_next_, diag_;
+};
+
+}  // namespace descent

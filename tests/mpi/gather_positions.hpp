@@ -1,0 +1,46 @@
+#pragma once
+// Test helpers: the global picture of a distributed run, on rank 0.
+#include <mpi.h>
+
+#include <vector>
+
+#include "app/simulation.hpp"
+
+namespace descent::testing {
+
+// Positions of all global vertices (xyz by global id) on rank 0, from the
+// owned vertices of every rank; empty on other ranks.
+template <class Real>
+std::vector<double> gather_positions(MPI_Comm comm, const Simulation<Real>& sim,
+                                     index_t num_global_vertices) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const LocalMesh& local = sim.local_mesh();
+  const int owned = local.num_owned;
+  std::vector<int> ids(local.global_vertex.begin(), local.global_vertex.begin() + owned);
+  const std::vector<double> xyz = sim.owned_positions();
+  std::vector<int> counts(size), offsets(size + 1, 0);
+  MPI_Gather(&owned, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  for (int r = 0; r < size; ++r) offsets[r + 1] = offsets[r] + counts[r];
+  std::vector<int> all_ids(rank == 0 ? offsets[size] : 0);
+  MPI_Gatherv(ids.data(), owned, MPI_INT, all_ids.data(), counts.data(), offsets.data(), MPI_INT,
+              0, comm);
+  std::vector<int> counts3(size), offsets3(size);
+  for (int r = 0; r < size; ++r) {
+    counts3[r] = 3 * counts[r];
+    offsets3[r] = 3 * offsets[r];
+  }
+  std::vector<double> all_xyz(rank == 0 ? 3 * offsets[size] : 0);
+  MPI_Gatherv(xyz.data(), 3 * owned, MPI_DOUBLE, all_xyz.data(), counts3.data(), offsets3.data(),
+              MPI_DOUBLE, 0, comm);
+  std::vector<double> by_id;
+  if (rank == 0) {
+    by_id.assign(3 * static_cast<std::size_t>(num_global_vertices), 0.0);
+    for (std::size_t k = 0; k < all_ids.size(); ++k)
+      for (int i = 0; i < 3; ++i) by_id[3 * all_ids[k] + i] = all_xyz[3 * k + i];
+  }
+  return by_id;
+}
+
+}  // namespace descent::testing
