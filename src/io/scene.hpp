@@ -20,7 +20,7 @@ struct MeshSpec {
 
 struct MaterialSpec {
   std::string model = "neo_hookean";
-  double young = 1.0e5;   // Pa
+  double young = 1.0e5;  // Pa
   double poisson = 0.3;
   double density = 1000;  // kg/m^3
 };
@@ -41,17 +41,17 @@ struct TimeSpec {
 // Parameters of DESIGN §1's descent iteration (paper 1, §4).
 struct SolverSpec {
   std::string method = "chebyshev";
-  int iterations = 96;         // per time step
-  double rho = 0.96;           // Chebyshev spectral-radius estimate
-  int chebyshev_delay = 10;    // S: plain iterations before Chebyshev starts
-  int hessian_interval = 32;   // M: Hessian diagonal re-evaluated every M iterations
-  int check_interval = 8;      // energy check (the one allreduce) every 8 iterations
-  double gamma = 0.7;          // step shrink factor on a failed check
+  int iterations = 96;        // per time step
+  double rho = 0.96;          // Chebyshev spectral-radius estimate
+  int chebyshev_delay = 10;   // S: plain iterations before Chebyshev starts
+  int hessian_interval = 32;  // M: Hessian diagonal re-evaluated every M iterations
+  int check_interval = 8;     // energy check (the one allreduce) every 8 iterations
+  double gamma = 0.7;         // step shrink factor on a failed check
   double alpha_max = 1.0;
   double alpha_min = 1.0e-3;
   std::string init = "constant_acceleration";  // "position", "velocity", "constant_acceleration"
-  double eta = 0.2;            // weight of the acceleration term in that initialisation
-  double damping = 0.0;        // air damping c (1/s), Eq. 20
+  double eta = 0.2;      // weight of the acceleration term in that initialisation
+  double damping = 0.0;  // air damping c (1/s), Eq. 20
 };
 
 struct OutputSpec {

@@ -1,0 +1,79 @@
+#include "io/scene.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "common/error.hpp"
+#include "io/scene_checks.hpp"
+#include "io/scene_document.hpp"
+#include "io/scene_overrides.hpp"
+#include "io/scene_unknown_keys.hpp"
+#include "io/scene_values.hpp"
+
+namespace descent {
+
+namespace {
+
+SceneDocument parse_document(std::string_view text, const std::string& source) {
+  try {
+    return SceneDocument{toml::parse(text, std::string(source)), source};
+  } catch (const toml::parse_error& error) {
+    const toml::source_position& at = error.source().begin;
+    throw InputError(
+        detail::concat(source, ":", at.line, ":", at.column, ": ", error.description()));
+  }
+}
+
+// A relative mesh.file written in a scene file means "next to the scene", so
+// a scene runs from any directory; one given with --set is relative to where
+// the user typed it, like any other path on a command line.
+void resolve_mesh_file(const SceneDocument& doc, const std::filesystem::path& scene_dir,
+                       MeshSpec& mesh) {
+  const toml::node* file = doc.find("mesh.file");
+  if (!file || !doc.from_scene_file(*file)) return;
+  const std::filesystem::path path(mesh.file);
+  if (path.is_relative()) mesh.file = (scene_dir / path).lexically_normal().string();
+}
+
+// Overrides first, so each stage below treats them exactly as file entries.
+Scene read_scene(SceneDocument doc, const std::vector<std::string>& overrides,
+                 const std::filesystem::path& scene_dir) {
+  apply_overrides(doc.root, overrides);
+  reject_unknown_keys(doc);
+  SceneFields fields = read_scene_fields(doc);
+  check_mesh_source(doc, fields.scene);
+  apply_helix_preset(doc, fields);
+  check_scene_values(doc, fields.scene);
+  resolve_mesh_file(doc, scene_dir, fields.scene.mesh);
+  fields.scene.source = doc.source;
+  return std::move(fields.scene);
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  if (!std::filesystem::exists(path)) {
+    throw InputError(detail::concat("scene file '", path, "' does not exist"));
+  }
+  if (std::filesystem::is_directory(path)) {
+    throw InputError(detail::concat("scene file '", path, "' is a directory"));
+  }
+  std::ifstream file(path, std::ios::binary);
+  const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  if (!file.is_open() || file.bad()) {
+    throw InputError(detail::concat("scene file '", path, "' cannot be read"));
+  }
+  return read_scene(parse_document(text, path), overrides,
+                    std::filesystem::path(path).parent_path());
+}
+
+Scene parse_scene(const std::string& toml_text, const std::string& source,
+                  const std::vector<std::string>& overrides) {
+  // Messages start with the source, so it needs a name.
+  const std::string name = source.empty() ? std::string("<scene text>") : source;
+  // Without a file, relative paths stay relative to the current directory.
+  return read_scene(parse_document(toml_text, name), overrides, {});
+}
+
+}  // namespace descent

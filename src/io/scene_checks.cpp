@@ -1,0 +1,178 @@
+#include "io/scene_checks.hpp"
+
+#include <algorithm>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+#include "common/error.hpp"
+
+namespace descent {
+
+namespace {
+
+void require(const SceneDocument& doc, bool holds, std::string_view key, std::string_view rule,
+             double value) {
+  if (holds) return;
+  throw InputError(
+      detail::concat(doc.where(key), ": ", key, " must be ", rule, ", got ", format_number(value)));
+}
+
+void require_one_of(const SceneDocument& doc, std::string_view key, const std::string& value,
+                    std::initializer_list<std::string_view> choices) {
+  if (std::find(choices.begin(), choices.end(), value) != choices.end()) return;
+  std::string listed;
+  for (std::string_view choice : choices) {
+    listed += (listed.empty() ? "\"" : ", \"") + std::string(choice) + "\"";
+  }
+  throw InputError(detail::concat(doc.where(key), ": ", key, " must be one of ", listed, ", got \"",
+                                  value, "\""));
+}
+
+// A non-empty subset of "xyz", each axis at most once.
+bool is_axis_set(const std::string& axes) {
+  if (axes.empty()) return false;
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    if (std::string_view("xyz").find(axes[i]) == std::string_view::npos) return false;
+    if (axes.find(axes[i], i + 1) != std::string::npos) return false;
+  }
+  return true;
+}
+
+void check_fixed_region(const SceneDocument& doc, const FixedRegion& region, std::size_t i) {
+  const std::string prefix = detail::concat("fixed.", i, ".");
+  if (!is_axis_set(region.axes)) {
+    const std::string key = prefix + "axes";
+    throw InputError(detail::concat(doc.where(key), ": ", key,
+                                    " must name each of x, y, z at most once (\"xyz\", \"y\", "
+                                    "\"xz\", ...), got \"",
+                                    region.axes, "\""));
+  }
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    if (region.box_min[axis] > region.box_max[axis]) {
+      const std::string key = prefix + "box_min";
+      throw InputError(detail::concat(
+          doc.where(key), ": ", key, " must not exceed ", prefix, "box_max, but its ", "xyz"[axis],
+          " is ", format_number(region.box_min[axis]), " > ", format_number(region.box_max[axis])));
+    }
+  }
+}
+
+void check_helix(const SceneDocument& doc, const DoubleHelixParams& helix) {
+  require(doc, helix.resolution > 0, "mesh.helix.resolution", "> 0", helix.resolution);
+  require(doc, helix.helix_radius > 0, "mesh.helix.helix_radius", "> 0", helix.helix_radius);
+  require(doc, helix.tube_radius > 0, "mesh.helix.tube_radius", "> 0", helix.tube_radius);
+  require(doc, helix.pitch > 0, "mesh.helix.pitch", "> 0", helix.pitch);
+  require(doc, helix.turns > 0, "mesh.helix.turns", "> 0", helix.turns);
+}
+
+void check_box(const SceneDocument& doc, const BoxParams& box) {
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    require(doc, box.cells[axis] >= 1, "mesh.box.cells", "at least 1 along each axis",
+            box.cells[axis]);
+    require(doc, box.size[axis] > 0, "mesh.box.size", "> 0 along each axis", box.size[axis]);
+  }
+  require(doc, box.tets_per_cell == 5 || box.tets_per_cell == 6, "mesh.box.tets_per_cell", "5 or 6",
+          box.tets_per_cell);
+}
+
+}  // namespace
+
+void check_mesh_source(const SceneDocument& doc, const Scene& scene) {
+  const bool has_generator = doc.has("mesh.generator");
+  const bool has_file = doc.has("mesh.file");
+  if (!has_generator && !has_file) {
+    throw InputError(
+        detail::concat(doc.where("mesh"),
+                       ": the scene needs a mesh: set mesh.generator (\"double_helix\" or "
+                       "\"box\") or mesh.file"));
+  }
+  if (has_generator && has_file) {
+    throw InputError(detail::concat(doc.where("mesh.file"),
+                                    ": mesh.file and mesh.generator exclude each other (",
+                                    doc.where("mesh.generator"), " sets mesh.generator)"));
+  }
+  if (has_file && scene.mesh.file.empty()) {
+    throw InputError(detail::concat(doc.where("mesh.file"), ": mesh.file must not be empty"));
+  }
+  if (has_generator) {
+    require_one_of(doc, "mesh.generator", scene.mesh.generator, {"double_helix", "box"});
+  }
+  // A parameter table of the other generator would be silently ignored.
+  const std::string& generator = scene.mesh.generator;
+  const std::string mesh_from = has_file ? std::string("the mesh is read from mesh.file")
+                                         : "mesh.generator is \"" + generator + "\"";
+  if (doc.has("mesh.helix") && generator != "double_helix") {
+    throw InputError(detail::concat(doc.where("mesh.helix"),
+                                    ": mesh.helix goes with mesh.generator = \"double_helix\", "
+                                    "but ",
+                                    mesh_from));
+  }
+  if (doc.has("mesh.box") && generator != "box") {
+    throw InputError(detail::concat(
+        doc.where("mesh.box"), ": mesh.box goes with mesh.generator = \"box\", but ", mesh_from));
+  }
+}
+
+void apply_helix_preset(const SceneDocument& doc, SceneFields& fields) {
+  if (!doc.has("mesh.helix.preset")) return;
+  if (doc.has("mesh.helix.resolution")) {
+    throw InputError(detail::concat(doc.where("mesh.helix.resolution"),
+                                    ": mesh.helix.resolution and mesh.helix.preset exclude each "
+                                    "other (a preset is a named resolution)"));
+  }
+  try {
+    fields.scene.mesh.helix.resolution = double_helix_preset_resolution(fields.helix_preset);
+  } catch (const InputError& error) {
+    throw InputError(
+        detail::concat(doc.where("mesh.helix.preset"), ": mesh.helix.preset: ", error.what()));
+  }
+}
+
+void check_scene_values(const SceneDocument& doc, const Scene& scene) {
+  require(doc, scene.mesh.scale > 0, "mesh.scale", "> 0", scene.mesh.scale);
+  if (scene.mesh.generator == "double_helix") check_helix(doc, scene.mesh.helix);
+  if (scene.mesh.generator == "box") check_box(doc, scene.mesh.box);
+
+  const MaterialSpec& material = scene.material;
+  require_one_of(doc, "material.model", material.model, {"neo_hookean"});
+  require(doc, material.young > 0, "material.young", "> 0", material.young);
+  require(doc, material.poisson > -1 && material.poisson < 0.5, "material.poisson", "in (-1, 0.5)",
+          material.poisson);
+  require(doc, material.density > 0, "material.density", "> 0", material.density);
+
+  for (std::size_t i = 0; i < scene.fixed.size(); ++i) check_fixed_region(doc, scene.fixed[i], i);
+
+  require(doc, scene.time.dt > 0, "time.dt", "> 0", scene.time.dt);
+  require(doc, scene.time.frames >= 0, "time.frames", ">= 0", scene.time.frames);
+
+  const SolverSpec& solver = scene.solver;
+  require_one_of(doc, "solver.method", solver.method, {"chebyshev"});
+  require(doc, solver.iterations >= 1, "solver.iterations", ">= 1", solver.iterations);
+  require(doc, solver.rho >= 0 && solver.rho < 1, "solver.rho", "in [0, 1)", solver.rho);
+  require(doc, solver.chebyshev_delay >= 0, "solver.chebyshev_delay", ">= 0",
+          solver.chebyshev_delay);
+  require(doc, solver.hessian_interval >= 1, "solver.hessian_interval", ">= 1",
+          solver.hessian_interval);
+  require(doc, solver.check_interval >= 1, "solver.check_interval", ">= 1", solver.check_interval);
+  require(doc, solver.gamma > 0 && solver.gamma < 1, "solver.gamma", "in (0, 1)", solver.gamma);
+  require(doc, solver.alpha_min > 0, "solver.alpha_min", "> 0", solver.alpha_min);
+  if (solver.alpha_min > solver.alpha_max) {
+    // Either may be the one mistyped; point at one the scene sets.
+    const char* culprit = doc.has("solver.alpha_min") ? "solver.alpha_min" : "solver.alpha_max";
+    throw InputError(detail::concat(
+        doc.where(culprit), ": solver.alpha_min (", format_number(solver.alpha_min),
+        ") must not exceed solver.alpha_max (", format_number(solver.alpha_max), ")"));
+  }
+  require_one_of(doc, "solver.init", solver.init,
+                 {"constant_acceleration", "position", "velocity"});
+  require(doc, solver.eta >= 0, "solver.eta", ">= 0", solver.eta);
+  require(doc, solver.damping >= 0, "solver.damping", ">= 0", solver.damping);
+
+  if (scene.output.dir.empty()) {
+    throw InputError(detail::concat(doc.where("output.dir"), ": output.dir must not be empty"));
+  }
+  require(doc, scene.output.every >= 1, "output.every", ">= 1", scene.output.every);
+}
+
+}  // namespace descent

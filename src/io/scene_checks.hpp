@@ -1,0 +1,21 @@
+#pragma once
+// Checks of scene values past their types: the mesh source, allowed names
+// and numeric ranges. Each throws InputError naming the key and where it
+// was set.
+#include "io/scene_document.hpp"
+#include "io/scene_schema.hpp"
+
+namespace descent {
+
+// Exactly one of mesh.generator / mesh.file, a known generator, and the
+// parameter table ([mesh.helix], [mesh.box]) of that generator only.
+void check_mesh_source(const SceneDocument& doc, const Scene& scene);
+
+// mesh.helix.preset (which conflicts with mesh.helix.resolution) sets the
+// helix resolution.
+void apply_helix_preset(const SceneDocument& doc, SceneFields& fields);
+
+// Names of models and methods, numeric ranges and [[fixed]] regions.
+void check_scene_values(const SceneDocument& doc, const Scene& scene);
+
+}  // namespace descent

@@ -1,0 +1,77 @@
+#pragma once
+// The one list of scene keys. Every stage of scene reading walks it: the
+// unknown-key check (and its suggestions) and the typed reading, so a key
+// added here is accepted, suggested and read, with its type taken from the
+// field it fills.
+#include <string>
+#include <string_view>
+
+#include "io/scene.hpp"
+
+namespace descent {
+
+// What a scene file can set: the Scene itself plus keys that only steer
+// parsing and have no field of their own.
+struct SceneFields {
+  Scene scene;
+  std::string helix_preset;  // mesh.helix.preset: a named mesh.helix.resolution
+};
+
+// Calls visit(dotted_key, field) for every key outside [[fixed]].
+template <class Visit>
+void visit_scene_keys(SceneFields& fields, Visit&& visit) {
+  Scene& scene = fields.scene;
+  MeshSpec& mesh = scene.mesh;
+  visit("mesh.generator", mesh.generator);
+  visit("mesh.file", mesh.file);
+  visit("mesh.scale", mesh.scale);
+  visit("mesh.helix.preset", fields.helix_preset);
+  visit("mesh.helix.resolution", mesh.helix.resolution);
+  visit("mesh.helix.helix_radius", mesh.helix.helix_radius);
+  visit("mesh.helix.tube_radius", mesh.helix.tube_radius);
+  visit("mesh.helix.pitch", mesh.helix.pitch);
+  visit("mesh.helix.turns", mesh.helix.turns);
+  visit("mesh.box.cells", mesh.box.cells);
+  visit("mesh.box.size", mesh.box.size);
+  visit("mesh.box.origin", mesh.box.origin);
+  visit("mesh.box.tets_per_cell", mesh.box.tets_per_cell);
+
+  visit("material.model", scene.material.model);
+  visit("material.young", scene.material.young);
+  visit("material.poisson", scene.material.poisson);
+  visit("material.density", scene.material.density);
+  visit("gravity", scene.gravity);
+
+  visit("time.dt", scene.time.dt);
+  visit("time.frames", scene.time.frames);
+
+  SolverSpec& solver = scene.solver;
+  visit("solver.method", solver.method);
+  visit("solver.iterations", solver.iterations);
+  visit("solver.rho", solver.rho);
+  visit("solver.chebyshev_delay", solver.chebyshev_delay);
+  visit("solver.hessian_interval", solver.hessian_interval);
+  visit("solver.check_interval", solver.check_interval);
+  visit("solver.gamma", solver.gamma);
+  visit("solver.alpha_max", solver.alpha_max);
+  visit("solver.alpha_min", solver.alpha_min);
+  visit("solver.init", solver.init);
+  visit("solver.eta", solver.eta);
+  visit("solver.damping", solver.damping);
+
+  visit("output.dir", scene.output.dir);
+  visit("output.every", scene.output.every);
+}
+
+// [[fixed]] is the scene's one array of tables; each of its tables holds
+// the keys below (addressed as fixed.0.axes, fixed.1.box_min, ...).
+inline constexpr std::string_view kFixedArrayKey = "fixed";
+
+template <class Visit>
+void visit_fixed_keys(FixedRegion& region, Visit&& visit) {
+  visit("box_min", region.box_min);
+  visit("box_max", region.box_max);
+  visit("axes", region.axes);
+}
+
+}  // namespace descent

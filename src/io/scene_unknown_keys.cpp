@@ -1,0 +1,167 @@
+#include "io/scene_unknown_keys.hpp"
+
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "io/scene_schema.hpp"
+
+namespace descent {
+
+namespace {
+
+std::vector<std::string> scene_keys() {
+  std::vector<std::string> keys;
+  SceneFields unused;
+  visit_scene_keys(unused, [&keys](std::string_view key, auto&) { keys.emplace_back(key); });
+  return keys;
+}
+
+std::vector<std::string> fixed_keys() {
+  std::vector<std::string> keys;
+  FixedRegion unused;
+  visit_fixed_keys(unused, [&keys](std::string_view key, auto&) { keys.emplace_back(key); });
+  return keys;
+}
+
+std::string join_key(const std::string& table_key, std::string_view name) {
+  return table_key.empty() ? std::string(name) : table_key + "." + std::string(name);
+}
+
+bool is_table_key(const std::vector<std::string>& keys, const std::string& key) {
+  return std::any_of(keys.begin(), keys.end(),
+                     [&key](const std::string& known) { return known.starts_with(key + "."); });
+}
+
+// The names that may appear directly in the table at `table_key`.
+std::vector<std::string> names_in_table(const std::vector<std::string>& keys,
+                                        const std::string& table_key) {
+  const std::string prefix = table_key.empty() ? "" : table_key + ".";
+  std::vector<std::string> names;
+  for (const std::string& key : keys) {
+    if (!key.starts_with(prefix)) continue;
+    const std::string rest = key.substr(prefix.size());
+    std::string name = rest.substr(0, rest.find('.'));
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  }
+  return names;
+}
+
+// Levenshtein distance: insertions, deletions and substitutions.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> previous(b.size() + 1), current(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) previous[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    current[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t substitution = previous[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
+      current[j] = std::min({previous[j] + 1, current[j - 1] + 1, substitution});
+    }
+    std::swap(previous, current);
+  }
+  return previous[b.size()];
+}
+
+// Close enough to be a typo: within two edits.
+std::optional<std::string> closest_name(std::string_view name,
+                                        const std::vector<std::string>& candidates) {
+  constexpr std::size_t kFurthest = 2;
+  std::optional<std::string> best;
+  std::size_t best_distance = kFurthest + 1;
+  for (const std::string& candidate : candidates) {
+    const std::size_t distance = edit_distance(name, candidate);
+    if (distance < best_distance) {
+      best = candidate;
+      best_distance = distance;
+    }
+  }
+  return best;
+}
+
+class KeyChecker {
+ public:
+  explicit KeyChecker(const SceneDocument& doc) : doc_(doc) {}
+
+  void check_scene() const { check_table(doc_.root, scene_keys_, "", ""); }
+
+ private:
+  // `table` sits at `table_key` of the schema described by `keys`;
+  // `shown_prefix` places that schema in the scene ("fixed.1." for the
+  // second [[fixed]] table, empty otherwise).
+  void check_table(const toml::table& table, const std::vector<std::string>& keys,
+                   const std::string& table_key, const std::string& shown_prefix) const {
+    const bool at_scene_root = table_key.empty() && shown_prefix.empty();
+    for (auto&& [name, node] : table) {
+      const std::string key = join_key(table_key, name.str());
+      // A quoted name with a dot ("solver.rho" = 1) would pass for a nested key.
+      const bool plain_name = name.str().find('.') == std::string_view::npos;
+      if (plain_name && std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
+      if (plain_name && is_table_key(keys, key)) {
+        if (!node.is_table()) throw_wrong_kind(node, shown_prefix + key, "a table");
+        check_table(*node.as_table(), keys, key, shown_prefix);
+        continue;
+      }
+      if (at_scene_root && name.str() == kFixedArrayKey) {
+        check_fixed_entries(node);
+        continue;
+      }
+      throw_unknown(node, name.str(), keys, table_key, shown_prefix);
+    }
+  }
+
+  void check_fixed_entries(const toml::node& node) const {
+    const std::string shown(kFixedArrayKey);
+    const toml::array* entries = node.as_array();
+    if (!entries) throw_wrong_kind(node, shown, "an array of tables ([[fixed]])");
+    for (std::size_t i = 0; i < entries->size(); ++i) {
+      const std::string entry_key = detail::concat(shown, ".", i);
+      const toml::node& entry = *entries->get(i);
+      if (!entry.is_table()) throw_wrong_kind(entry, entry_key, "a table");
+      check_table(*entry.as_table(), fixed_keys_, "", entry_key + ".");
+    }
+  }
+
+  [[noreturn]] void throw_wrong_kind(const toml::node& node, const std::string& shown_key,
+                                     std::string_view expected) const {
+    throw InputError(detail::concat(doc_.where(node), ": ", shown_key, " must be ", expected,
+                                    ", got ", describe(node)));
+  }
+
+  bool is_top_level_name(std::string_view name) const {
+    const std::vector<std::string> names = names_in_table(scene_keys_, "");
+    return name == kFixedArrayKey || std::find(names.begin(), names.end(), name) != names.end();
+  }
+
+  // Names the key with the full dotted path and, when there is one, a close
+  // key of the same table. Failing that, explains TOML's classic trap: a
+  // top-level key written below a [table] header belongs to that table.
+  [[noreturn]] void throw_unknown(const toml::node& node, std::string_view name,
+                                  const std::vector<std::string>& keys,
+                                  const std::string& table_key,
+                                  const std::string& shown_prefix) const {
+    const bool at_scene_root = table_key.empty() && shown_prefix.empty();
+    std::string message = detail::concat(doc_.where(node), ": unknown key '", shown_prefix,
+                                         join_key(table_key, name), "'");
+    std::vector<std::string> candidates = names_in_table(keys, table_key);
+    if (at_scene_root) candidates.emplace_back(kFixedArrayKey);
+    if (const std::optional<std::string> close = closest_name(name, candidates)) {
+      message += " (did you mean '" + shown_prefix + join_key(table_key, *close) + "'?)";
+    } else if (!at_scene_root && is_top_level_name(name)) {
+      message +=
+          detail::concat(" ('", name, "' is a top-level key: write it above the first [table])");
+    }
+    throw InputError(message);
+  }
+
+  const SceneDocument& doc_;
+  const std::vector<std::string> scene_keys_ = scene_keys();
+  const std::vector<std::string> fixed_keys_ = fixed_keys();
+};
+
+}  // namespace
+
+void reject_unknown_keys(const SceneDocument& doc) { KeyChecker(doc).check_scene(); }
+
+}  // namespace descent

@@ -1,0 +1,587 @@
+// Scene files: defaults, every key, every error a user can make (named by
+// key and line), and --set overrides checked exactly like file entries.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "io/scene.hpp"
+#include "meshes/generators.hpp"
+
+namespace descent {
+namespace {
+
+namespace fs = std::filesystem;
+using Overrides = std::vector<std::string>;
+using Vec3 = std::array<double, 3>;
+
+// The smallest valid scenes: two lines each.
+constexpr const char* kBoxScene = "[mesh]\ngenerator = \"box\"\n";
+constexpr const char* kHelixScene = "[mesh]\ngenerator = \"double_helix\"\n";
+
+Scene parse(const std::string& text, const Overrides& overrides = {}) {
+  return parse_scene(text, "scene.toml", overrides);
+}
+
+// The message of the InputError that parsing throws.
+std::string error_of(const std::string& text, const Overrides& overrides = {}) {
+  try {
+    parse(text, overrides);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no InputError for:\n" << text;
+  return "";
+}
+
+void expect_has(const std::string& message, const std::string& part) {
+  EXPECT_NE(message.find(part), std::string::npos)
+      << "message: " << message << "\nlacks:   " << part;
+}
+
+// A folder of its own under the system temp folder, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    const std::string test = testing::UnitTest::GetInstance()->current_test_info()->name();
+    path_ = fs::temp_directory_path() /
+            ("descent_test_scene_" + test + "_" + std::to_string(::getpid()));
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  const fs::path& path() const { return path_; }
+
+  fs::path write(const std::string& name, const std::string& text) const {
+    const fs::path file = path_ / name;
+    fs::create_directories(file.parent_path());
+    std::ofstream(file) << text;
+    return file;
+  }
+
+ private:
+  fs::path path_;
+};
+
+// ---------------------------------------------------------------- defaults
+
+TEST(Scene, EmptySceneNeedsAMesh) {
+  const std::string message = error_of("");
+  expect_has(message, "scene.toml");
+  expect_has(message, "mesh.generator");
+  expect_has(message, "mesh.file");
+}
+
+TEST(Scene, EveryOtherKeyDefaultsToTheStructDefaults) {
+  const Scene scene = parse(kHelixScene);
+  const Scene defaults;
+  EXPECT_EQ(scene.source, "scene.toml");
+  EXPECT_EQ(scene.mesh.generator, "double_helix");
+  EXPECT_EQ(scene.mesh.file, "");
+  EXPECT_EQ(scene.mesh.scale, defaults.mesh.scale);
+  EXPECT_EQ(scene.mesh.helix.resolution, defaults.mesh.helix.resolution);
+  EXPECT_EQ(scene.mesh.helix.helix_radius, defaults.mesh.helix.helix_radius);
+  EXPECT_EQ(scene.mesh.helix.tube_radius, defaults.mesh.helix.tube_radius);
+  EXPECT_EQ(scene.mesh.helix.pitch, defaults.mesh.helix.pitch);
+  EXPECT_EQ(scene.mesh.helix.turns, defaults.mesh.helix.turns);
+  EXPECT_EQ(scene.mesh.box.cells, defaults.mesh.box.cells);
+  EXPECT_EQ(scene.mesh.box.size, defaults.mesh.box.size);
+  EXPECT_EQ(scene.mesh.box.origin, defaults.mesh.box.origin);
+  EXPECT_EQ(scene.mesh.box.tets_per_cell, defaults.mesh.box.tets_per_cell);
+  EXPECT_EQ(scene.material.model, defaults.material.model);
+  EXPECT_EQ(scene.material.young, defaults.material.young);
+  EXPECT_EQ(scene.material.poisson, defaults.material.poisson);
+  EXPECT_EQ(scene.material.density, defaults.material.density);
+  EXPECT_EQ(scene.gravity, defaults.gravity);
+  EXPECT_TRUE(scene.fixed.empty());
+  EXPECT_EQ(scene.time.dt, defaults.time.dt);
+  EXPECT_EQ(scene.time.frames, defaults.time.frames);
+  EXPECT_EQ(scene.solver.method, defaults.solver.method);
+  EXPECT_EQ(scene.solver.iterations, defaults.solver.iterations);
+  EXPECT_EQ(scene.solver.rho, defaults.solver.rho);
+  EXPECT_EQ(scene.solver.chebyshev_delay, defaults.solver.chebyshev_delay);
+  EXPECT_EQ(scene.solver.hessian_interval, defaults.solver.hessian_interval);
+  EXPECT_EQ(scene.solver.check_interval, defaults.solver.check_interval);
+  EXPECT_EQ(scene.solver.gamma, defaults.solver.gamma);
+  EXPECT_EQ(scene.solver.alpha_max, defaults.solver.alpha_max);
+  EXPECT_EQ(scene.solver.alpha_min, defaults.solver.alpha_min);
+  EXPECT_EQ(scene.solver.init, defaults.solver.init);
+  EXPECT_EQ(scene.solver.eta, defaults.solver.eta);
+  EXPECT_EQ(scene.solver.damping, defaults.solver.damping);
+  EXPECT_EQ(scene.output.dir, defaults.output.dir);
+  EXPECT_EQ(scene.output.every, defaults.output.every);
+}
+
+// --------------------------------------------------------------- every key
+
+TEST(Scene, ReadsEveryKeyOfAHelixScene) {
+  const Scene scene = parse(R"(
+gravity = [0, 0, -9.81]
+
+[mesh]
+generator = "double_helix"
+scale = 2.5
+[mesh.helix]
+resolution = 1.5
+helix_radius = 0.3
+tube_radius = 0.1
+pitch = 0.6
+turns = 3
+
+[material]
+model = "neo_hookean"
+young = 2e6
+poisson = 0.45
+density = 1100
+
+[[fixed]]
+box_min = [-1, -1, -1]
+box_max = [1, 0.05, 1]
+
+[[fixed]]
+box_min = [0, 1, 0]
+box_max = [2, 2, 2]
+axes = "xz"
+
+[time]
+dt = 0.01
+frames = 120
+
+[solver]
+method = "chebyshev"
+iterations = 64
+rho = 0.9
+chebyshev_delay = 5
+hessian_interval = 16
+check_interval = 4
+gamma = 0.5
+alpha_max = 0.8
+alpha_min = 0.01
+init = "velocity"
+eta = 0.3
+damping = 0.1
+
+[output]
+dir = "runs/helix"
+every = 2
+)");
+  EXPECT_EQ(scene.mesh.generator, "double_helix");
+  EXPECT_EQ(scene.mesh.scale, 2.5);
+  EXPECT_EQ(scene.mesh.helix.resolution, 1.5);
+  EXPECT_EQ(scene.mesh.helix.helix_radius, 0.3);
+  EXPECT_EQ(scene.mesh.helix.tube_radius, 0.1);
+  EXPECT_EQ(scene.mesh.helix.pitch, 0.6);
+  EXPECT_EQ(scene.mesh.helix.turns, 3.0);
+  EXPECT_EQ(scene.material.model, "neo_hookean");
+  EXPECT_EQ(scene.material.young, 2e6);
+  EXPECT_EQ(scene.material.poisson, 0.45);
+  EXPECT_EQ(scene.material.density, 1100.0);
+  EXPECT_EQ(scene.gravity, (Vec3{0, 0, -9.81}));
+  ASSERT_EQ(scene.fixed.size(), 2u);
+  EXPECT_EQ(scene.fixed[0].box_min, (Vec3{-1, -1, -1}));
+  EXPECT_EQ(scene.fixed[0].box_max, (Vec3{1, 0.05, 1}));
+  EXPECT_EQ(scene.fixed[0].axes, "xyz");
+  EXPECT_EQ(scene.fixed[1].box_min, (Vec3{0, 1, 0}));
+  EXPECT_EQ(scene.fixed[1].box_max, (Vec3{2, 2, 2}));
+  EXPECT_EQ(scene.fixed[1].axes, "xz");
+  EXPECT_EQ(scene.time.dt, 0.01);
+  EXPECT_EQ(scene.time.frames, 120);
+  EXPECT_EQ(scene.solver.method, "chebyshev");
+  EXPECT_EQ(scene.solver.iterations, 64);
+  EXPECT_EQ(scene.solver.rho, 0.9);
+  EXPECT_EQ(scene.solver.chebyshev_delay, 5);
+  EXPECT_EQ(scene.solver.hessian_interval, 16);
+  EXPECT_EQ(scene.solver.check_interval, 4);
+  EXPECT_EQ(scene.solver.gamma, 0.5);
+  EXPECT_EQ(scene.solver.alpha_max, 0.8);
+  EXPECT_EQ(scene.solver.alpha_min, 0.01);
+  EXPECT_EQ(scene.solver.init, "velocity");
+  EXPECT_EQ(scene.solver.eta, 0.3);
+  EXPECT_EQ(scene.solver.damping, 0.1);
+  EXPECT_EQ(scene.output.dir, "runs/helix");
+  EXPECT_EQ(scene.output.every, 2);
+}
+
+TEST(Scene, ReadsEveryKeyOfABoxScene) {
+  const Scene scene = parse(R"(
+[mesh]
+generator = "box"
+[mesh.box]
+cells = [2, 3, 4]
+size = [1, 0.5, 0.25]
+origin = [-0.5, 0, 1]
+tets_per_cell = 5
+)");
+  EXPECT_EQ(scene.mesh.generator, "box");
+  EXPECT_EQ(scene.mesh.box.cells, (std::array<int, 3>{2, 3, 4}));
+  EXPECT_EQ(scene.mesh.box.size, (Vec3{1, 0.5, 0.25}));
+  EXPECT_EQ(scene.mesh.box.origin, (Vec3{-0.5, 0, 1}));
+  EXPECT_EQ(scene.mesh.box.tets_per_cell, 5);
+}
+
+TEST(Scene, ReadsAMeshFileWithItsScale) {
+  const Scene scene = parse("[mesh]\nfile = \"meshes/bunny.msh\"\nscale = 0.01\n");
+  EXPECT_EQ(scene.mesh.generator, "");
+  EXPECT_EQ(scene.mesh.file, "meshes/bunny.msh");  // parse_scene: relative to the cwd
+  EXPECT_EQ(scene.mesh.scale, 0.01);
+}
+
+TEST(Scene, PresetSetsTheHelixResolution) {
+  const Scene scene = parse(std::string(kHelixScene) + "[mesh.helix]\npreset = \"82k\"\n");
+  EXPECT_EQ(scene.mesh.helix.resolution, double_helix_preset_resolution("82k"));
+}
+
+TEST(Scene, UnknownPresetIsNamedWithItsLine) {
+  const std::string message =
+      error_of(std::string(kHelixScene) + "[mesh.helix]\npreset = \"99k\"\n");
+  expect_has(message, "scene.toml:4: mesh.helix.preset");
+  expect_has(message, "99k");
+}
+
+TEST(Scene, IntegersAreAcceptedAsFloats) {
+  const Scene scene = parse(std::string(kBoxScene) + "[material]\nyoung = 200000\n");
+  EXPECT_EQ(scene.material.young, 2e5);
+}
+
+// ------------------------------------------------------------ unknown keys
+
+TEST(Scene, UnknownKeySuggestsTheClosestKey) {
+  const std::string message = error_of(std::string(kBoxScene) + "[solver]\niteration = 3\n");
+  expect_has(message,
+             "scene.toml:4: unknown key 'solver.iteration' (did you mean 'solver.iterations'?)");
+}
+
+TEST(Scene, UnknownKeyFarFromAnyKeyHasNoSuggestion) {
+  const std::string message = error_of(std::string(kBoxScene) + "[solver]\nwarp_speed = 9\n");
+  expect_has(message, "scene.toml:4: unknown key 'solver.warp_speed'");
+  EXPECT_EQ(message.find("did you mean"), std::string::npos) << message;
+}
+
+TEST(Scene, UnknownTableSuggestsTheClosestTable) {
+  const std::string message = error_of(std::string(kBoxScene) + "[solvr]\niterations = 3\n");
+  expect_has(message, "unknown key 'solvr' (did you mean 'solver'?)");
+}
+
+TEST(Scene, UnknownKeyInsideFixedNamesTheEntry) {
+  const std::string message =
+      error_of(std::string(kBoxScene) + "[[fixed]]\naxes = \"y\"\n[[fixed]]\naxis = \"x\"\n");
+  expect_has(message, "scene.toml:6: unknown key 'fixed.1.axis' (did you mean 'fixed.1.axes'?)");
+}
+
+TEST(Scene, UnknownKeyInsideMeshHelix) {
+  const std::string message =
+      error_of(std::string(kHelixScene) + "[mesh.helix]\ntube_radiu = 0.1\n");
+  expect_has(message,
+             "scene.toml:4: unknown key 'mesh.helix.tube_radiu' "
+             "(did you mean 'mesh.helix.tube_radius'?)");
+}
+
+TEST(Scene, UnknownTopLevelKey) {
+  expect_has(error_of("gravty = [0, 0, 0]\n" + std::string(kBoxScene)),
+             "scene.toml:1: unknown key 'gravty' (did you mean 'gravity'?)");
+}
+
+TEST(Scene, QuotedKeyWithADotIsNotANestedKey) {
+  expect_has(error_of("\"solver.rho\" = 0.5\n" + std::string(kBoxScene)),
+             "scene.toml:1: unknown key 'solver.rho'");
+}
+
+TEST(Scene, TopLevelKeyBelowATableIsExplained) {
+  expect_has(error_of(std::string(kBoxScene) + "gravity = [0, 0, -9.81]\n"),
+             "scene.toml:3: unknown key 'mesh.gravity' ('gravity' is a top-level key: write it "
+             "above the first [table])");
+}
+
+// ------------------------------------------------------------- wrong types
+
+TEST(Scene, WrongTypeNamesKeyExpectedTypeFoundValueAndLine) {
+  std::string text = kBoxScene;  // lines 1-2
+  for (int line = 3; line <= 10; ++line) text += "# filler\n";
+  text += "[solver]\n";               // line 11
+  text += "iterations = \"many\"\n";  // line 12
+  expect_has(error_of(text),
+             "scene.toml:12: solver.iterations must be an integer, got string \"many\"");
+}
+
+TEST(Scene, FloatIsNotAcceptedAsAnInteger) {
+  expect_has(error_of(std::string(kBoxScene) + "[time]\nframes = 3.5\n"),
+             "scene.toml:4: time.frames must be an integer, got float 3.5");
+}
+
+TEST(Scene, StringIsNotANumber) {
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nrho = \"high\"\n"),
+             "solver.rho must be a number, got string \"high\"");
+}
+
+TEST(Scene, VectorNeedsExactlyThreeNumbers) {
+  expect_has(error_of("gravity = [0, -9.81]\n" + std::string(kBoxScene)),
+             "scene.toml:1: gravity must be an array of 3 numbers, got array [0, -9.81]");
+  expect_has(error_of("gravity = [0, \"down\", 0]\n" + std::string(kBoxScene)),
+             "gravity must be an array of 3 numbers, got array [0, \"down\", 0]");
+  expect_has(error_of("gravity = -9.81\n" + std::string(kBoxScene)),
+             "gravity must be an array of 3 numbers, got float -9.81");
+}
+
+TEST(Scene, IntegerVectorRejectsFloats) {
+  expect_has(error_of(std::string(kBoxScene) + "[mesh.box]\ncells = [4, 4.5, 4]\n"),
+             "scene.toml:4: mesh.box.cells must be an array of 3 integers, got array [4, 4.5, 4]");
+}
+
+TEST(Scene, TableKeyHoldingAValue) {
+  expect_has(error_of("solver = 3\n" + std::string(kBoxScene)),
+             "scene.toml:1: solver must be a table, got integer 3");
+  expect_has(error_of("fixed = 3\n" + std::string(kBoxScene)),
+             "fixed must be an array of tables ([[fixed]]), got integer 3");
+  expect_has(error_of("fixed = [1]\n" + std::string(kBoxScene)),
+             "fixed.0 must be a table, got integer 1");
+}
+
+TEST(Scene, NumbersMustBeFinite) {
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nrho = nan\n"),
+             "scene.toml:4: solver.rho must be a finite number, got float nan");
+  expect_has(error_of("gravity = [0, -inf, 0]\n" + std::string(kBoxScene)),
+             "gravity must be an array of 3 finite numbers");
+}
+
+// ------------------------------------------------------------------ ranges
+
+struct RangeCase {
+  std::string entry;     // TOML appended to the box scene (from line 3)
+  std::string expected;  // a part of the message
+};
+
+TEST(Scene, RangesNameTheKeyAndTheLine) {
+  const std::vector<RangeCase> cases = {
+      {"[time]\ndt = 0", "scene.toml:4: time.dt must be > 0, got 0"},
+      {"[time]\nframes = -1", "time.frames must be >= 0, got -1"},
+      {"[solver]\niterations = 0", "scene.toml:4: solver.iterations must be >= 1, got 0"},
+      {"[solver]\nrho = 1.0", "solver.rho must be in [0, 1), got 1"},
+      {"[solver]\nrho = -0.1", "solver.rho must be in [0, 1), got -0.1"},
+      {"[solver]\nchebyshev_delay = -1", "solver.chebyshev_delay must be >= 0, got -1"},
+      {"[solver]\nhessian_interval = 0", "solver.hessian_interval must be >= 1, got 0"},
+      {"[solver]\ncheck_interval = 0", "solver.check_interval must be >= 1, got 0"},
+      {"[solver]\ngamma = 1", "solver.gamma must be in (0, 1), got 1"},
+      {"[solver]\ngamma = 0", "solver.gamma must be in (0, 1), got 0"},
+      {"[solver]\nalpha_min = 0", "solver.alpha_min must be > 0, got 0"},
+      {"[solver]\nalpha_min = 0.5\nalpha_max = 0.1",
+       "scene.toml:4: solver.alpha_min (0.5) must not exceed solver.alpha_max (0.1)"},
+      {"[solver]\neta = -0.5", "solver.eta must be >= 0, got -0.5"},
+      {"[solver]\ndamping = -1", "solver.damping must be >= 0, got -1"},
+      {"[material]\nyoung = 0", "material.young must be > 0, got 0"},
+      {"[material]\npoisson = 0.5", "material.poisson must be in (-1, 0.5), got 0.5"},
+      {"[material]\npoisson = -1", "material.poisson must be in (-1, 0.5), got -1"},
+      {"[material]\ndensity = -1000", "material.density must be > 0, got -1000"},
+      {"[output]\nevery = 0", "output.every must be >= 1, got 0"},
+      {"[output]\ndir = \"\"", "output.dir must not be empty"},
+      {"[mesh.box]\ncells = [4, 0, 4]", "mesh.box.cells must be at least 1 along each axis, got 0"},
+      {"[mesh.box]\ntets_per_cell = 4", "mesh.box.tets_per_cell must be 5 or 6, got 4"},
+      {"[[fixed]]\nbox_min = [0, 2, 0]\nbox_max = [1, 1, 1]",
+       "scene.toml:4: fixed.0.box_min must not exceed fixed.0.box_max, but its y is 2 > 1"},
+      {"[[fixed]]\naxes = \"\"", "fixed.0.axes must name each of x, y, z at most once"},
+      {"[[fixed]]\naxes = \"xx\"", "fixed.0.axes must name each of x, y, z at most once"},
+      {"[[fixed]]\naxes = \"xw\"", "got \"xw\""},
+  };
+  for (const RangeCase& c : cases) {
+    SCOPED_TRACE(c.entry);
+    expect_has(error_of(kBoxScene + c.entry + "\n"), c.expected);
+  }
+  expect_has(error_of("[mesh]\nfile = \"a.msh\"\nscale = 0\n"),
+             "scene.toml:3: mesh.scale must be > 0, got 0");
+  expect_has(error_of(std::string(kHelixScene) + "[mesh.helix]\ntube_radius = -0.1\n"),
+             "mesh.helix.tube_radius must be > 0, got -0.1");
+}
+
+TEST(Scene, ChoicesListTheValidNames) {
+  expect_has(error_of(std::string(kBoxScene) + "[material]\nmodel = \"stvk\"\n"),
+             "scene.toml:4: material.model must be one of \"neo_hookean\", got \"stvk\"");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nmethod = \"jacobi\"\n"),
+             "solver.method must be one of \"chebyshev\", got \"jacobi\"");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\ninit = \"guess\"\n"),
+             "solver.init must be one of \"constant_acceleration\", \"position\", \"velocity\"");
+  expect_has(error_of("[mesh]\ngenerator = \"sphere\"\n"),
+             "scene.toml:2: mesh.generator must be one of \"double_helix\", \"box\", got "
+             "\"sphere\"");
+}
+
+// ------------------------------------------------------------- mesh source
+
+TEST(Scene, MeshNeedsExactlyOneOfGeneratorAndFile) {
+  expect_has(error_of("[mesh]\nscale = 2\n"), "set mesh.generator");
+  const std::string both = error_of("[mesh]\ngenerator = \"box\"\nfile = \"a.msh\"\n");
+  expect_has(both, "scene.toml:3: mesh.file and mesh.generator exclude each other");
+  expect_has(error_of("[mesh]\nfile = \"\"\n"), "mesh.file must not be empty");
+}
+
+TEST(Scene, ParameterTableMustMatchTheGenerator) {
+  expect_has(error_of(std::string(kBoxScene) + "[mesh.helix]\nturns = 3\n"),
+             "scene.toml:3: mesh.helix goes with mesh.generator = \"double_helix\", but "
+             "mesh.generator is \"box\"");
+  expect_has(error_of(std::string(kHelixScene) + "[mesh.box]\ncells = [1, 1, 1]\n"),
+             "mesh.box goes with mesh.generator = \"box\"");
+  expect_has(error_of("[mesh]\nfile = \"a.msh\"\n[mesh.helix]\nturns = 3\n"),
+             "the mesh is read from mesh.file");
+}
+
+TEST(Scene, PresetAndResolutionExcludeEachOther) {
+  expect_has(
+      error_of(std::string(kHelixScene) + "[mesh.helix]\npreset = \"41k\"\nresolution = 2\n"),
+      "scene.toml:5: mesh.helix.resolution and mesh.helix.preset exclude each other");
+}
+
+// ------------------------------------------------------- syntax and files
+
+TEST(Scene, SyntaxErrorGivesLineAndColumn) {
+  const std::string message = error_of(std::string(kBoxScene) + "[solver]\niterations = = 3\n");
+  EXPECT_EQ(message.rfind("scene.toml:4:", 0), 0u) << message;
+  // file:line:column: then toml++'s description
+  EXPECT_GT(message.size(), std::string("scene.toml:4:14: ").size()) << message;
+}
+
+TEST(Scene, MissingFileIsNamed) {
+  const std::string path = "/nonexistent/descent/scene.toml";
+  try {
+    load_scene(path);
+    FAIL() << "no InputError";
+  } catch (const InputError& error) {
+    expect_has(error.what(), path);
+  }
+}
+
+TEST(Scene, LoadSceneRecordsItsSource) {
+  const TempDir dir;
+  const fs::path file = dir.write("scene.toml", kBoxScene);
+  EXPECT_EQ(load_scene(file.string()).source, file.string());
+}
+
+TEST(Scene, FileErrorsNameTheFile) {
+  const TempDir dir;
+  const fs::path file = dir.write("bad.toml", std::string(kBoxScene) + "[solver]\nrho = 2\n");
+  try {
+    load_scene(file.string());
+    FAIL() << "no InputError";
+  } catch (const InputError& error) {
+    expect_has(error.what(), file.string() + ":4: solver.rho");
+  }
+}
+
+TEST(Scene, RelativeMeshFileResolvesAgainstTheSceneFolder) {
+  const TempDir dir;
+  const fs::path scene_file =
+      dir.write("scenes/bunny.toml", "[mesh]\nfile = \"../meshes/bunny.msh\"\n");
+  EXPECT_EQ(load_scene(scene_file.string()).mesh.file, (dir.path() / "meshes/bunny.msh").string());
+}
+
+TEST(Scene, AbsoluteMeshFileIsKept) {
+  const TempDir dir;
+  const fs::path scene_file = dir.write("scene.toml", "[mesh]\nfile = \"/data/bunny.msh\"\n");
+  EXPECT_EQ(load_scene(scene_file.string()).mesh.file, "/data/bunny.msh");
+}
+
+TEST(Scene, MeshFileFromTheCommandLineStaysRelativeToTheCurrentFolder) {
+  const TempDir dir;
+  const fs::path scene_file = dir.write("scenes/a.toml", "[mesh]\nfile = \"a.msh\"\n");
+  EXPECT_EQ(load_scene(scene_file.string(), {"mesh.file=\"b.msh\""}).mesh.file, "b.msh");
+}
+
+TEST(Scene, OutputDirIsKeptAsGiven) {
+  const TempDir dir;
+  const fs::path scene_file =
+      dir.write("scenes/a.toml", std::string(kBoxScene) + "[output]\ndir = \"runs/a\"\n");
+  EXPECT_EQ(load_scene(scene_file.string()).output.dir, "runs/a");
+}
+
+// --------------------------------------------------------------- overrides
+
+TEST(SceneOverrides, ScalarReplacesTheFileValue) {
+  const Scene scene =
+      parse(std::string(kBoxScene) + "[solver]\niterations = 96\n", {"solver.iterations=64"});
+  EXPECT_EQ(scene.solver.iterations, 64);
+}
+
+TEST(SceneOverrides, AddsKeysAndTablesTheFileLacks) {
+  const Scene scene = parse(kBoxScene, {"solver.rho=0.5", "mesh.box.cells=[1, 2, 3]"});
+  EXPECT_EQ(scene.solver.rho, 0.5);
+  EXPECT_EQ(scene.mesh.box.cells, (std::array<int, 3>{1, 2, 3}));
+}
+
+TEST(SceneOverrides, Vector) {
+  EXPECT_EQ(parse(kBoxScene, {"gravity=[0,0,-9.81]"}).gravity, (Vec3{0, 0, -9.81}));
+}
+
+TEST(SceneOverrides, QuotedString) {
+  EXPECT_EQ(parse("[mesh]\nfile = \"a.msh\"\n", {"mesh.file=\"b c.msh\""}).mesh.file, "b c.msh");
+  EXPECT_EQ(parse(kBoxScene, {"material.model=\"neo_hookean\""}).material.model, "neo_hookean");
+}
+
+TEST(SceneOverrides, BareWordIsAString) {
+  EXPECT_EQ(parse(kBoxScene, {"output.dir=runs/a"}).output.dir, "runs/a");
+  EXPECT_EQ(parse(kBoxScene, {"solver.init=position"}).solver.init, "position");
+}
+
+TEST(SceneOverrides, LaterOverrideWins) {
+  EXPECT_EQ(parse(kBoxScene, {"time.frames=10", "time.frames=20"}).time.frames, 20);
+}
+
+TEST(SceneOverrides, FixedEntriesByIndex) {
+  const std::string text =
+      std::string(kBoxScene) + "[[fixed]]\nbox_min = [0, 0, 0]\nbox_max = [1, 1, 1]\n";
+  const Scene scene = parse(text, {"fixed.0.axes=\"y\"", "fixed.1.box_max=[2, 2, 2]"});
+  ASSERT_EQ(scene.fixed.size(), 2u);
+  EXPECT_EQ(scene.fixed[0].axes, "y");
+  EXPECT_EQ(scene.fixed[0].box_max, (Vec3{1, 1, 1}));
+  EXPECT_EQ(scene.fixed[1].box_max, (Vec3{2, 2, 2}));  // index == size appends
+  EXPECT_EQ(scene.fixed[1].axes, "xyz");
+}
+
+TEST(SceneOverrides, FixedEntryWithoutAnyInTheFile) {
+  const Scene scene = parse(kBoxScene, {"fixed.0.axes=y"});
+  ASSERT_EQ(scene.fixed.size(), 1u);
+  EXPECT_EQ(scene.fixed[0].axes, "y");
+}
+
+TEST(SceneOverrides, FixedIndexPastTheEnd) {
+  const std::string message = error_of(kBoxScene, {"fixed.2.axes=y"});
+  expect_has(message, "--set fixed.2.axes=y: fixed has 0 entries");
+}
+
+TEST(SceneOverrides, UnknownKeySaysItCameFromSet) {
+  expect_has(error_of(kBoxScene, {"solver.iteration=64"}),
+             "--set solver.iteration=64: unknown key 'solver.iteration' "
+             "(did you mean 'solver.iterations'?)");
+  expect_has(error_of(kBoxScene, {"solvr.iterations=64"}),
+             "--set solvr.iterations=64: unknown key 'solvr' (did you mean 'solver'?)");
+}
+
+TEST(SceneOverrides, WrongTypeSaysItCameFromSet) {
+  expect_has(error_of(kBoxScene, {"solver.iterations=many"}),
+             "--set solver.iterations=many: solver.iterations must be an integer, got string "
+             "\"many\"");
+  expect_has(error_of(kBoxScene, {"gravity=[0, 1]"}),
+             "--set gravity=[0, 1]: gravity must be an array of 3 numbers");
+}
+
+TEST(SceneOverrides, RangeErrorSaysItCameFromSet) {
+  expect_has(error_of(kBoxScene, {"solver.rho=1.5"}),
+             "--set solver.rho=1.5: solver.rho must be in [0, 1), got 1.5");
+}
+
+TEST(SceneOverrides, MalformedOverrides) {
+  expect_has(error_of(kBoxScene, {"solver.iterations"}),
+             "--set solver.iterations: expected key=value");
+  expect_has(error_of(kBoxScene, {"solver..rho=1"}), "is not a dotted key");
+  expect_has(error_of(kBoxScene, {"solver.rho="}), "no value");
+  expect_has(error_of(kBoxScene, {"gravity=[0, 0"}), "--set gravity=[0, 0: the value is not TOML");
+  expect_has(error_of(kBoxScene, {"solver.iterations=3", "solver.iterations.x=1"}),
+             "--set solver.iterations.x=1: solver.iterations holds");
+}
+
+TEST(SceneOverrides, ConflictsAreCheckedAfterMerging) {
+  expect_has(error_of(kBoxScene, {"mesh.file=a.msh"}),
+             "--set mesh.file=a.msh: mesh.file and mesh.generator exclude each other");
+}
+
+}  // namespace
+}  // namespace descent
