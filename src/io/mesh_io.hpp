@@ -17,9 +17,9 @@
 namespace descent {
 
 struct MeshReadReport {
-  index_t reoriented_tets = 0;       // negatively oriented tets that were flipped
-  index_t unreferenced_vertices = 0; // vertices used by no tet (kept, reported)
-  std::vector<std::string> warnings; // one line each, ready to print
+  index_t reoriented_tets = 0;        // negatively oriented tets that were flipped
+  index_t unreferenced_vertices = 0;  // vertices used by no tet (kept, reported)
+  std::vector<std::string> warnings;  // one line each, ready to print
 };
 
 Mesh read_mesh(const std::string& path, MeshReadReport* report = nullptr);
