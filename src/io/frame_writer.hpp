@@ -37,15 +37,19 @@ struct FrameWriterLayout {
 
 class FrameWriter {
  public:
-  // Collective over `comm`. Creates DIR (and parents) if needed; the caller
-  // decides beforehand whether an existing DIR may be reused.
+  // Collective over `comm`, which must outlive the writer; destroy the writer
+  // before MPI_Finalize, which shuts HDF5 down. Creates DIR (and parents) if
+  // needed; the caller decides beforehand whether an existing DIR may be reused
+  // (its frames.h5 is truncated, its frames.xdmf removed).
   FrameWriter(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout);
   ~FrameWriter();
   FrameWriter(const FrameWriter&) = delete;
   FrameWriter& operator=(const FrameWriter&) = delete;
 
   // Collective. `owned_positions` holds 3 doubles per owned vertex, in the
-  // order of layout.owned_vertex_ids.
+  // order of layout.owned_vertex_ids; `frame` in [0, 999999], each written once,
+  // and `time` the same on every rank. Returns once the frame is flushed to
+  // frames.h5 and listed in frames.xdmf.
   void write_frame(int frame, double time, std::span<const double> owned_positions);
 
   std::string h5_path() const;
@@ -72,12 +76,13 @@ struct FrameStats {
 
 class StatsWriter {
  public:
-  // Opens DIR/stats.csv on rank 0 of comm (other ranks hold nothing).
+  // Collective over `comm`. Creates DIR if needed and opens DIR/stats.csv on
+  // rank 0 of comm (other ranks hold nothing); throws on every rank if rank 0 cannot.
   StatsWriter(MPI_Comm comm, const std::string& dir);
   ~StatsWriter();
   StatsWriter(const StatsWriter&) = delete;
   StatsWriter& operator=(const StatsWriter&) = delete;
-  void write(const FrameStats& row);  // rank 0 writes; others ignore
+  void write(const FrameStats& row);  // rank 0 writes; others ignore (not collective)
   std::string path() const;
 
  private:

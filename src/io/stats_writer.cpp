@@ -1,0 +1,88 @@
+// Per-frame statistics as CSV, written by rank 0 and flushed per row so that a
+// run killed mid-way keeps every completed frame.
+#include <cerrno>
+#include <charconv>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <system_error>
+
+#include "common/error.hpp"
+#include "io/frame_writer.hpp"
+
+namespace descent {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kStatsName = "stats.csv";
+constexpr const char* kHeader =
+    "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms\n";
+
+struct CloseFile {
+  void operator()(std::FILE* file) const { std::fclose(file); }
+};
+using FilePtr = std::unique_ptr<std::FILE, CloseFile>;
+
+// Shortest text that reads back as the same double.
+std::string format_double(double value) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  return std::string(text, end);
+}
+
+std::string format_ms(double ms) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f", ms);
+  return text;
+}
+
+}  // namespace
+
+struct StatsWriter::Impl {
+  fs::path path;
+  FilePtr file;  // rank 0 only
+};
+
+// Collective over comm: rank 0 tells every rank whether it could open the file,
+// so that all ranks throw together instead of the others waiting for rank 0.
+StatsWriter::StatsWriter(MPI_Comm comm, const std::string& dir) : impl_(std::make_unique<Impl>()) {
+  impl_->path = fs::path(dir) / kStatsName;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int error = 0;  // errno value on rank 0
+  if (rank == 0) {
+    std::error_code created;
+    fs::create_directories(dir, created);
+    if (created) {
+      error = created.value();
+    } else {
+      impl_->file.reset(std::fopen(impl_->path.c_str(), "w"));
+      if (!impl_->file || std::fputs(kHeader, impl_->file.get()) < 0 ||
+          std::fflush(impl_->file.get()) != 0)
+        error = errno != 0 ? errno : EIO;
+    }
+  }
+  MPI_Bcast(&error, 1, MPI_INT, 0, comm);
+  if (error != 0)
+    throw InputError(detail::concat("cannot create ", impl_->path.string(), ": ",
+                                    std::generic_category().message(error)));
+}
+
+StatsWriter::~StatsWriter() = default;
+
+// Not collective: a failure here throws on rank 0 only.
+void StatsWriter::write(const FrameStats& row) {
+  if (!impl_->file) return;
+  const std::string line = detail::concat(
+      row.frame, ',', format_double(row.sim_time), ',', row.iterations, ',', row.rollbacks, ',',
+      format_double(row.alpha), ',', format_double(row.energy), ',', format_ms(row.wall_ms), ',',
+      format_ms(row.halo_ms), ',', format_ms(row.allreduce_ms), '\n');
+  if (std::fputs(line.c_str(), impl_->file.get()) < 0 || std::fflush(impl_->file.get()) != 0)
+    throw InputError(detail::concat("cannot write ", impl_->path.string(), ": ",
+                                    std::generic_category().message(errno)));
+}
+
+std::string StatsWriter::path() const { return impl_->path.string(); }
+
+}  // namespace descent

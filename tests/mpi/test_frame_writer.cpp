@@ -1,0 +1,391 @@
+// FrameWriter and StatsWriter under 1, 2 and 3 ranks. Ranks own interleaved,
+// non-contiguous rows given in descending order; rank 0 then reopens the files
+// serially and checks every value. Each test ends by agreeing across ranks on
+// pass or fail, so a failure seen on one rank fails the test on all of them.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <mpi.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "io/frame_writer.hpp"
+
+namespace descent {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr index_t kNumVertices = 20;
+constexpr index_t kNumTets = 10;
+const std::vector<int> kFrames = {0, 7, 12};  // 000012 checks the zero padding
+
+int comm_rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+int comm_size() {
+  int size = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+
+// Known values of the synthetic mesh, as functions of global ids.
+double rest_position(index_t vertex, int axis) { return vertex + 0.1 * axis; }
+
+double frame_position(index_t vertex, int axis, int frame) {
+  return 1000.0 * frame + vertex + 0.01 * axis + 1.0 / 3.0;
+}
+
+double frame_time(int frame) { return 0.1 * frame + 1e-7; }
+
+index_t tet_vertex(index_t tet, int corner) {
+  const index_t offsets[4] = {0, 3, 7, 11};
+  return (tet + offsets[corner]) % kNumVertices;
+}
+
+// A directory under the system temp directory, named by rank 0 and removed at
+// the end of the test.
+class TestDirectory {
+ public:
+  explicit TestDirectory(const std::string& test_name) {
+    std::string name;
+    if (comm_rank() == 0) {
+      std::random_device random;
+      name = "descent_test_frame_writer_" + test_name + "_" + std::to_string(random()) +
+             std::to_string(random());
+    }
+    int length = static_cast<int>(name.size());
+    MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    name.resize(length);
+    MPI_Bcast(name.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
+    path_ = fs::temp_directory_path() / name;
+  }
+  ~TestDirectory() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    std::error_code ignored;
+    if (comm_rank() == 0) fs::remove_all(path_, ignored);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// Fails the current test on every rank when it failed on any.
+void expect_all_ranks_passed() {
+  int failed = ::testing::Test::HasFailure() ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  EXPECT_EQ(failed, 0) << "some rank failed this test";
+}
+
+// The rows one rank writes, in descending id order to exercise the sorting.
+struct OwnedPart {
+  std::vector<index_t> vertex_ids;
+  std::vector<double> rest_positions;
+  std::vector<index_t> tet_ids;
+  std::vector<index_t> tet_vertices;
+
+  FrameWriterLayout layout() const {
+    return {kNumVertices, kNumTets, vertex_ids, tet_ids, tet_vertices, rest_positions};
+  }
+  std::vector<double> positions(int frame) const {
+    std::vector<double> positions;
+    for (index_t vertex : vertex_ids)
+      for (int axis = 0; axis < 3; ++axis) positions.push_back(frame_position(vertex, axis, frame));
+    return positions;
+  }
+};
+
+OwnedPart owned_part(const std::function<int(index_t)>& vertex_owner,
+                     const std::function<int(index_t)>& tet_owner) {
+  OwnedPart part;
+  const int rank = comm_rank();
+  for (index_t vertex = kNumVertices - 1; vertex >= 0; --vertex) {
+    if (vertex_owner(vertex) != rank) continue;
+    part.vertex_ids.push_back(vertex);
+    for (int axis = 0; axis < 3; ++axis) part.rest_positions.push_back(rest_position(vertex, axis));
+  }
+  for (index_t tet = kNumTets - 1; tet >= 0; --tet) {
+    if (tet_owner(tet) != rank) continue;
+    part.tet_ids.push_back(tet);
+    for (int corner = 0; corner < 4; ++corner) part.tet_vertices.push_back(tet_vertex(tet, corner));
+  }
+  return part;
+}
+
+// Serial reads for rank 0's checks. Each closes what it opens before returning.
+std::vector<hsize_t> dataset_dims(hid_t file, const std::string& path) {
+  std::vector<hsize_t> dims;
+  const hid_t dataset = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
+  if (dataset < 0) return dims;
+  const hid_t space = H5Dget_space(dataset);
+  dims.resize(H5Sget_simple_extent_ndims(space));
+  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  H5Sclose(space);
+  H5Dclose(dataset);
+  return dims;
+}
+
+template <class T>
+std::vector<T> read_dataset(hid_t file, const std::string& path, hid_t memory_type,
+                            std::size_t size) {
+  std::vector<T> values(size);
+  const hid_t dataset = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
+  if (dataset < 0 ||
+      H5Dread(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0)
+    values.clear();
+  if (dataset >= 0) H5Dclose(dataset);
+  return values;
+}
+
+double read_time_attribute(hid_t file, const std::string& group) {
+  double time = -1;
+  const hid_t attribute = H5Aopen_by_name(file, group.c_str(), "time", H5P_DEFAULT, H5P_DEFAULT);
+  if (attribute >= 0) {
+    H5Aread(attribute, H5T_NATIVE_DOUBLE, &time);
+    H5Aclose(attribute);
+  }
+  return time;
+}
+
+hsize_t count_links(hid_t file, const std::string& group) {
+  H5G_info_t info{};
+  if (H5Gget_info_by_name(file, group.c_str(), &info, H5P_DEFAULT) < 0) return 0;
+  return info.nlinks;
+}
+
+std::string frame_name(int frame) {
+  char name[16];
+  std::snprintf(name, sizeof name, "%06d", frame);
+  return name;
+}
+
+void check_h5(const fs::path& h5_path) {
+  const hid_t file = H5Fopen(h5_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0) << h5_path;
+
+  const std::vector<hsize_t> tets_dims = {kNumTets, 4};
+  EXPECT_EQ(dataset_dims(file, "/mesh/tets"), tets_dims);
+  const auto tets = read_dataset<index_t>(file, "/mesh/tets", H5T_NATIVE_INT32, 4 * kNumTets);
+  ASSERT_EQ(tets.size(), std::size_t{4 * kNumTets});
+  for (index_t tet = 0; tet < kNumTets; ++tet)
+    for (int corner = 0; corner < 4; ++corner)
+      EXPECT_EQ(tets[4 * tet + corner], tet_vertex(tet, corner)) << "tet " << tet;
+
+  const std::vector<hsize_t> vertex_dims = {kNumVertices, 3};
+  EXPECT_EQ(dataset_dims(file, "/mesh/rest_positions"), vertex_dims);
+  const auto rest =
+      read_dataset<double>(file, "/mesh/rest_positions", H5T_NATIVE_DOUBLE, 3 * kNumVertices);
+  ASSERT_EQ(rest.size(), std::size_t{3 * kNumVertices});
+  for (index_t vertex = 0; vertex < kNumVertices; ++vertex)
+    for (int axis = 0; axis < 3; ++axis)
+      EXPECT_EQ(rest[3 * vertex + axis], rest_position(vertex, axis)) << "vertex " << vertex;
+
+  EXPECT_EQ(count_links(file, "/frames"), kFrames.size());
+  for (int frame : kFrames) {
+    const std::string group = "/frames/" + frame_name(frame);
+    EXPECT_EQ(read_time_attribute(file, group), frame_time(frame)) << group;
+    EXPECT_EQ(dataset_dims(file, group + "/positions"), vertex_dims) << group;
+    const auto positions =
+        read_dataset<double>(file, group + "/positions", H5T_NATIVE_DOUBLE, 3 * kNumVertices);
+    ASSERT_EQ(positions.size(), std::size_t{3 * kNumVertices}) << group;
+    for (index_t vertex = 0; vertex < kNumVertices; ++vertex)
+      for (int axis = 0; axis < 3; ++axis)
+        EXPECT_EQ(positions[3 * vertex + axis], frame_position(vertex, axis, frame))
+            << group << " vertex " << vertex;
+  }
+  H5Fclose(file);
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::size_t count_occurrences(const std::string& text, const std::string& pattern) {
+  std::size_t count = 0;
+  for (auto at = text.find(pattern); at != std::string::npos; at = text.find(pattern, at + 1))
+    ++count;
+  return count;
+}
+
+// The values of <Time Value="..."/>, in file order.
+std::vector<double> time_values(const std::string& xdmf) {
+  const std::string tag = "<Time Value=\"";
+  std::vector<double> times;
+  for (auto at = xdmf.find(tag); at != std::string::npos; at = xdmf.find(tag, at + 1))
+    times.push_back(std::stod(xdmf.substr(at + tag.size())));
+  return times;
+}
+
+// The XDMF index as text: one Uniform grid per frame, relative paths, right sizes.
+void check_xdmf(const fs::path& xdmf_path, std::size_t frames_written) {
+  const std::string xdmf = read_text(xdmf_path);
+  EXPECT_EQ(count_occurrences(xdmf, "CollectionType=\"Temporal\""), 1u) << xdmf;
+  EXPECT_EQ(count_occurrences(xdmf, "GridType=\"Uniform\""), frames_written) << xdmf;
+  EXPECT_EQ(count_occurrences(xdmf, "<Time Value="), frames_written) << xdmf;
+  EXPECT_EQ(count_occurrences(xdmf, "TopologyType=\"Tetrahedron\" NumberOfElements=\"10\""),
+            frames_written);
+  EXPECT_EQ(count_occurrences(xdmf, "Dimensions=\"10 4\" NumberType=\"Int\" Precision=\"4\""),
+            frames_written);
+  EXPECT_EQ(count_occurrences(xdmf, ">frames.h5:/mesh/tets</DataItem>"), frames_written);
+  EXPECT_EQ(count_occurrences(xdmf, "GeometryType=\"XYZ\""), frames_written);
+  EXPECT_EQ(count_occurrences(xdmf, "Dimensions=\"20 3\" NumberType=\"Float\" Precision=\"8\""),
+            frames_written);
+  std::vector<double> expected_times;
+  for (std::size_t k = 0; k < frames_written; ++k) {
+    const std::string name = frame_name(kFrames[k]);
+    EXPECT_EQ(count_occurrences(xdmf, ">frames.h5:/frames/" + name + "/positions</DataItem>"), 1u)
+        << name;
+    expected_times.push_back(frame_time(kFrames[k]));
+  }
+  EXPECT_EQ(time_values(xdmf), expected_times) << "times in frame order, exact";
+  EXPECT_EQ(xdmf.find(xdmf_path.parent_path().string()), std::string::npos)
+      << "the index must name frames.h5 relatively";
+  EXPECT_FALSE(fs::exists(xdmf_path.string() + ".tmp"));
+}
+
+// Writes kFrames with the given ownership, then checks the files on rank 0.
+void write_and_check(const std::string& test_name, const std::function<int(index_t)>& vertex_owner,
+                     const std::function<int(index_t)>& tet_owner) {
+  TestDirectory dir(test_name);
+  const fs::path output = dir.path() / "nested" / "frames";  // parents are created too
+  const OwnedPart part = owned_part(vertex_owner, tet_owner);
+  {
+    FrameWriter writer(MPI_COMM_WORLD, output.string(), part.layout());
+    EXPECT_EQ(writer.h5_path(), (output / "frames.h5").string());
+    EXPECT_EQ(writer.xdmf_path(), (output / "frames.xdmf").string());
+    for (std::size_t k = 0; k < kFrames.size(); ++k) {
+      writer.write_frame(kFrames[k], frame_time(kFrames[k]), part.positions(kFrames[k]));
+      // Each completed frame is listed at once (what a killed run leaves).
+      if (comm_rank() == 0) check_xdmf(output / "frames.xdmf", k + 1);
+    }
+  }
+  if (comm_rank() == 0) check_h5(output / "frames.h5");
+  expect_all_ranks_passed();
+}
+
+TEST(FrameWriter, InterleavedOwnershipWritesEveryRowAtItsGlobalId) {
+  const int size = comm_size();
+  write_and_check(
+      "interleaved", [size](index_t vertex) { return vertex % size; },
+      [size](index_t tet) { return (tet * 7) % size; });
+}
+
+TEST(FrameWriter, RanksWithoutRowsStillTakePart) {
+  write_and_check(
+      "rank0_owns_all", [](index_t) { return 0; }, [](index_t) { return 0; });
+}
+
+TEST(FrameWriter, WritingAFrameTwiceThrowsHdf5ErrorOnEveryRank) {
+  TestDirectory dir("duplicate_frame");
+  const int size = comm_size();
+  const OwnedPart part = owned_part([size](index_t vertex) { return vertex % size; },
+                                    [size](index_t tet) { return tet % size; });
+  FrameWriter writer(MPI_COMM_WORLD, dir.path().string(), part.layout());
+  writer.write_frame(3, 0.5, part.positions(3));
+  H5E_auto2_t print_errors = nullptr;
+  void* print_errors_data = nullptr;
+  H5Eget_auto2(H5E_DEFAULT, &print_errors, &print_errors_data);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // the HDF5 error stack is expected here
+  try {
+    writer.write_frame(3, 0.5, part.positions(3));
+    ADD_FAILURE() << "no error for a frame written twice";
+  } catch (const Hdf5Error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("H5Gcreate2"), std::string::npos) << message;
+    EXPECT_NE(message.find((dir.path() / "frames.h5").string() + ":/frames/000003"),
+              std::string::npos)
+        << message;
+  }
+  H5Eset_auto2(H5E_DEFAULT, print_errors, print_errors_data);
+  expect_all_ranks_passed();
+}
+
+TEST(FrameWriter, DirectoryThatCannotBeCreatedThrowsOnEveryRank) {
+  TestDirectory dir("blocked");
+  const fs::path blocker = dir.path() / "regular_file";
+  if (comm_rank() == 0) {
+    fs::create_directories(dir.path());
+    std::ofstream(blocker) << "not a directory\n";
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  const int size = comm_size();
+  const OwnedPart part = owned_part([size](index_t vertex) { return vertex % size; },
+                                    [size](index_t tet) { return tet % size; });
+  const std::string output = (blocker / "frames").string();
+  EXPECT_THROW(FrameWriter(MPI_COMM_WORLD, output, part.layout()), InputError);
+  EXPECT_THROW(StatsWriter(MPI_COMM_WORLD, output), InputError);
+  expect_all_ranks_passed();
+}
+
+TEST(FrameWriter, LayoutThatMissesAVertexThrowsOnEveryRank) {
+  TestDirectory dir("bad_layout");
+  const int size = comm_size();
+  OwnedPart part = owned_part([size](index_t vertex) { return vertex % size; },
+                              [size](index_t tet) { return tet % size; });
+  if (comm_rank() == 0) {  // vertex 0 is rank 0's last
+    part.vertex_ids.pop_back();
+    part.rest_positions.resize(3 * part.vertex_ids.size());
+  }
+  EXPECT_THROW(FrameWriter(MPI_COMM_WORLD, dir.path().string(), part.layout()), LogicError);
+  expect_all_ranks_passed();
+}
+
+std::vector<std::string> split(const std::string& line, char separator) {
+  std::vector<std::string> fields;
+  std::istringstream in(line);
+  for (std::string field; std::getline(in, field, separator);) fields.push_back(field);
+  return fields;
+}
+
+TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
+  TestDirectory dir("stats");
+  const std::vector<FrameStats> rows = {
+      {0, 0.0, 12, 0, 1.0, -1.0 / 3.0, 10.25, 1.5, 0.125},
+      {1, 1.0 / 60.0, 30, 2, 0.123456789012345678, 6.02214076e23, 2000.0, 0.0004, 3.0}};
+  std::string path;
+  {
+    StatsWriter stats(MPI_COMM_WORLD, dir.path().string());
+    path = stats.path();
+    for (const FrameStats& row : rows) stats.write(row);
+  }
+  EXPECT_EQ(path, (dir.path() / "stats.csv").string());
+  if (comm_rank() == 0) {
+    std::istringstream csv(read_text(path));
+    std::string line;
+    std::getline(csv, line);
+    EXPECT_EQ(line,
+              "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms");
+    for (const FrameStats& row : rows) {
+      ASSERT_TRUE(std::getline(csv, line));
+      const auto fields = split(line, ',');
+      ASSERT_EQ(fields.size(), 9u) << line;
+      EXPECT_EQ(std::stoi(fields[0]), row.frame);
+      EXPECT_EQ(std::stod(fields[1]), row.sim_time) << "exact round trip";
+      EXPECT_EQ(std::stoi(fields[2]), row.iterations);
+      EXPECT_EQ(std::stoi(fields[3]), row.rollbacks);
+      EXPECT_EQ(std::stod(fields[4]), row.alpha) << "exact round trip";
+      EXPECT_EQ(std::stod(fields[5]), row.energy) << "exact round trip";
+      EXPECT_NEAR(std::stod(fields[6]), row.wall_ms, 5e-4);
+      EXPECT_NEAR(std::stod(fields[7]), row.halo_ms, 5e-4);
+      EXPECT_NEAR(std::stod(fields[8]), row.allreduce_ms, 5e-4);
+    }
+    EXPECT_FALSE(std::getline(csv, line)) << "one row per write: " << line;
+  }
+  expect_all_ranks_passed();
+}
+
+}  // namespace
+}  // namespace descent
