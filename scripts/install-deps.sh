@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs what descent needs from Debian's packages (run as root, or with
+# sudo available). Safe to re-run: apt-get skips what is already there.
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config
+  openmpi-bin libopenmpi-dev      # MPI
+  libmetis-dev                    # partitioning
+  libeigen3-dev
+  libhdf5-openmpi-dev             # parallel HDF5 for the frames
+  libgtest-dev
+  libtomlplusplus-dev             # scene files
+  libcli11-dev                    # command line
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all packages present"
+  exit 0
+fi
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+echo "install-deps: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,111 @@
+#include "app/run_command.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "app/scene_mesh.hpp"
+#include "app/simulation.hpp"
+#include "io/frame_writer.hpp"
+
+namespace descent {
+
+namespace {
+
+// Global ids of the tets this rank writes and their global vertex ids.
+struct TetOutput {
+  std::vector<index_t> ids, vertices;
+};
+
+TetOutput tet_output(const LocalMesh& local) {
+  TetOutput out;
+  out.ids = local.global_tet;
+  out.vertices.resize(local.tets.size());
+  for (std::size_t k = 0; k < local.tets.size(); ++k)
+    out.vertices[k] = local.global_vertex[local.tets[k]];
+  return out;
+}
+
+}  // namespace
+
+int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const bool talk = rank == 0 && !options.quiet;
+
+  MeshReadReport report;
+  const Mesh mesh = build_scene_mesh(scene.mesh, &report);
+  if (talk) {
+    for (const auto& w : report.warnings) std::printf("warning: %s\n", w.c_str());
+    std::printf("descent: %s: %d vertices, %d tets on %d rank(s) x %d thread(s)\n",
+                mesh.source.c_str(), mesh.num_vertices(), mesh.num_tets(), size,
+                omp_get_max_threads());
+  }
+
+  Simulation<double> sim(comm, scene, mesh);
+  if (talk && size > 1)
+    std::printf("%s\n", describe(partition_quality(mesh, sim.tet_part(), size)).c_str());
+
+  const LocalMesh& local = sim.local_mesh();
+  const TetOutput tets = tet_output(local);
+  const std::vector<double> rest(local.rest_positions.begin(),
+                                 local.rest_positions.begin() + 3 * local.num_owned);
+  FrameWriterLayout layout;
+  layout.num_global_vertices = mesh.num_vertices();
+  layout.num_global_tets = mesh.num_tets();
+  layout.owned_vertex_ids = std::span(local.global_vertex.data(), local.num_owned);
+  layout.tet_ids = tets.ids;
+  layout.tet_vertices = tets.vertices;
+  layout.owned_rest_positions = rest;
+  FrameWriter frames(comm, scene.output.dir, layout);
+  StatsWriter stats(comm, scene.output.dir);
+  frames.write_frame(0, 0.0, sim.owned_positions());
+
+  const double h = scene.time.dt;
+  double total_ms = 0;
+  long total_iterations = 0;
+  for (int frame = 1; frame <= scene.time.frames; ++frame) {
+    const double halo_before = sim.halo_counters().seconds;
+    const double reduce_before = sim.reduction_counters().seconds;
+    const auto start = std::chrono::steady_clock::now();
+    const StepStats step = sim.step();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    total_ms += ms;
+    total_iterations += step.iterations;
+
+    FrameStats row;
+    row.frame = frame;
+    row.sim_time = frame * h;
+    row.iterations = step.iterations;
+    row.rollbacks = step.rollbacks;
+    row.alpha = step.alpha;
+    row.energy = step.energy;
+    row.wall_ms = ms;
+    row.halo_ms = 1e3 * (sim.halo_counters().seconds - halo_before);
+    row.allreduce_ms = 1e3 * (sim.reduction_counters().seconds - reduce_before);
+    stats.write(row);
+    if (frame % scene.output.every == 0)
+      frames.write_frame(frame, frame * h, sim.owned_positions());
+    if (talk) {
+      std::printf("frame %4d/%d  %8.1f ms  alpha %.3g  rollbacks %d%s\n", frame, scene.time.frames,
+                  ms, step.alpha, step.rollbacks,
+                  step.stalled ? "  (alpha at minimum: step ended early)" : "");
+      std::fflush(stdout);
+    }
+  }
+  if (talk && scene.time.frames > 0) {
+    const double ns_per_tet_iteration =
+        1e6 * total_ms / (static_cast<double>(mesh.num_tets()) * total_iterations);
+    std::printf("descent: %d frames in %.1f s, %.1f ms/frame, %.1f ns per tet-iteration\n",
+                scene.time.frames, total_ms / 1e3, total_ms / scene.time.frames,
+                ns_per_tet_iteration);
+    std::printf("descent: wrote %s, %s and %s\n", frames.h5_path().c_str(),
+                frames.xdmf_path().c_str(), stats.path().c_str());
+  }
+  return 0;
+}
+
+}  // namespace descent

@@ -1,0 +1,19 @@
+#pragma once
+// `descent run`: simulate a scene on all ranks of comm, writing frames,
+// stats and a progress line per frame.
+#include <mpi.h>
+
+#include <string>
+
+#include "io/scene.hpp"
+
+namespace descent {
+
+struct RunOptions {
+  bool quiet = false;
+};
+
+// Returns the process exit code (0 on success). Collective.
+int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options);
+
+}  // namespace descent

@@ -1,0 +1,52 @@
+#pragma once
+// One run's distributed set-up and time stepping, for the command line, the
+// tests and the benchmarks alike: the global mesh is partitioned (METIS on
+// rank 0, the parts broadcast), each rank builds its LocalMesh, halo,
+// problem and solver, and step() advances every rank by one time step.
+#include <mpi.h>
+
+#include <memory>
+#include <vector>
+
+#include "comm/halo.hpp"
+#include "comm/reduction.hpp"
+#include "common/mesh.hpp"
+#include "io/scene.hpp"
+#include "partition/partition.hpp"
+#include "solver/chebyshev_descent.hpp"
+#include "solver/local_problem.hpp"
+
+namespace descent {
+
+template <class Real>
+class Simulation {
+ public:
+  // Collective over comm. Every rank passes the same global mesh.
+  Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh);
+
+  StepStats step() { return solver_.step(state_); }
+
+  const LocalMesh& local_mesh() const { return local_; }
+  const LocalProblem<Real>& problem() const { return problem_; }
+  const BodyState<Real>& state() const { return state_; }
+  const std::vector<int>& tet_part() const { return tet_part_; }
+  const HaloCounters& halo_counters() const { return halo_.counters(); }
+  const ReductionCounters& reduction_counters() const { return reduction_.counters(); }
+
+  // Positions of owned vertices (3 per vertex, in local order [0, num_owned)).
+  std::vector<double> owned_positions() const;
+
+ private:
+  std::vector<int> tet_part_;
+  LocalMesh local_;
+  Halo<Real> halo_;
+  EnergyReduction reduction_;
+  LocalProblem<Real> problem_;
+  ChebyshevDescent<Real> solver_;
+  BodyState<Real> state_;
+};
+
+// METIS on rank 0 of comm, the result broadcast (one partition for all).
+std::vector<int> partition_on_root(MPI_Comm comm, const Mesh& mesh);
+
+}  // namespace descent
