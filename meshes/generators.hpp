@@ -10,22 +10,31 @@ namespace descent {
 
 // Two intertwined helical tubes (the second rotated by half a turn about the
 // axis) joined by end caps. The axis is +y (gravity pulls along -y in the
-// default scenes); the body spans y in [0, height]. `resolution` is the one
-// knob: tet count grows with its cube, and the named presets below reproduce
-// the paper's four sizes.
+// default scenes); the body spans y in [0, height] (double_helix_height): a
+// bottom cap, `turns` turns of both tubes, a top cap. Each cap is a solid disk
+// of radius helix_radius + tube_radius and thickness 2 * tube_radius.
+// `resolution` is the one knob: the body is voxelized on cells of edge about
+// tube_radius / resolution, so the tet count grows with its cube, and the named
+// presets below reproduce the paper's four sizes with the default geometry.
+// Throws InputError for non-positive or non-finite parameters, tubes that
+// would overlap, and a resolution too low to leave any cell in the body.
 struct DoubleHelixParams {
   double resolution = 1.0;
   double helix_radius = 0.25;  // axis to tube centre, metres
   double tube_radius = 0.08;
-  double pitch = 0.5;          // rise per turn
+  double pitch = 0.5;  // rise per turn
   double turns = 2.0;
 };
 
-// Resolution of the paper's sizes: "41k", "82k", "158k", "316k".
+// Resolution of the paper's sizes: "41k", "82k", "158k", "316k" (tet counts
+// within 5% of 41,000 / 82,000 / 158,000 / 316,000 with the default geometry).
 // Throws InputError naming the preset and the valid names otherwise.
 double double_helix_preset_resolution(const std::string& name);
 
 Mesh make_double_helix(const DoubleHelixParams& params);
+
+// turns * pitch + 4 * tube_radius: the helical part plus both caps.
+double double_helix_height(const DoubleHelixParams& params);
 
 // An axis-aligned box of cells[0] x cells[1] x cells[2] hexahedral cells over
 // [origin, origin + size], each split into 5 or 6 positively oriented tets.
