@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <numeric>
@@ -18,6 +17,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "io/number_text.hpp"
 
 namespace descent {
 namespace {
@@ -76,13 +76,6 @@ void verify_on_every_rank(MPI_Comm comm, bool ok_here, const std::string& what) 
   int ok_everywhere = ok_here ? 1 : 0;
   MPI_Allreduce(MPI_IN_PLACE, &ok_everywhere, 1, MPI_INT, MPI_MIN, comm);
   if (!ok_everywhere) throw LogicError(what);
-}
-
-// Shortest text that reads back as the same double.
-std::string format_double(double value) {
-  char text[32];
-  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
-  return std::string(text, end);
 }
 
 std::string frame_name(int frame) {

@@ -1,7 +1,6 @@
 // Per-frame statistics as CSV, written by rank 0 and flushed per row so that a
 // run killed mid-way keeps every completed frame.
 #include <cerrno>
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -9,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "io/frame_writer.hpp"
+#include "io/number_text.hpp"
 
 namespace descent {
 namespace {
@@ -23,13 +23,6 @@ struct CloseFile {
   void operator()(std::FILE* file) const { std::fclose(file); }
 };
 using FilePtr = std::unique_ptr<std::FILE, CloseFile>;
-
-// Shortest text that reads back as the same double.
-std::string format_double(double value) {
-  char text[32];
-  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
-  return std::string(text, end);
-}
 
 std::string format_ms(double ms) {
   char text[32];

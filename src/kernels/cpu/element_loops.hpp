@@ -24,6 +24,15 @@ inline TetCorners<Real> load_corners(const Real* x, const index_t* tet) {
   return c;
 }
 
+template <class Real>
+inline void store_corners(const Vec3<Real> values[4], Real* out) {
+  for (int a = 0; a < 4; ++a) {
+    out[3 * a] = values[a].x;
+    out[3 * a + 1] = values[a].y;
+    out[3 * a + 2] = values[a].z;
+  }
+}
+
 // Per-corner gradients of tets [begin, end), and Hessian diagonals too when
 // `diag_out` is not null (one pass, F computed once per tet).
 template <class Real, class Model>
@@ -35,21 +44,11 @@ void element_gradients(const Model& model, const Real* x, const index_t* tets,
     const TetCorners<Real> c = load_corners(x, tets + 4 * static_cast<std::int64_t>(t));
     Vec3<Real> g[4];
     element_gradient(model, rest[t], c, g);
-    Real* go = grad_out + 12 * static_cast<std::int64_t>(t);
-    for (int a = 0; a < 4; ++a) {
-      go[3 * a] = g[a].x;
-      go[3 * a + 1] = g[a].y;
-      go[3 * a + 2] = g[a].z;
-    }
+    store_corners(g, grad_out + 12 * static_cast<std::int64_t>(t));
     if (diag_out) {
       Vec3<Real> d[4];
       element_hessian_diagonal(model, rest[t], c, d);
-      Real* dout = diag_out + 12 * static_cast<std::int64_t>(t);
-      for (int a = 0; a < 4; ++a) {
-        dout[3 * a] = d[a].x;
-        dout[3 * a + 1] = d[a].y;
-        dout[3 * a + 2] = d[a].z;
-      }
+      store_corners(d, diag_out + 12 * static_cast<std::int64_t>(t));
     }
   }
 }
