@@ -27,6 +27,21 @@ TetOutput tet_output(const LocalMesh& local) {
   return out;
 }
 
+// One line per fixed region with the number of vertices it holds; a region
+// that holds none is almost always a mistake in its box, so it is flagged.
+void report_fixed_regions(const Scene& scene, const Mesh& mesh) {
+  for (std::size_t r = 0; r < scene.fixed.size(); ++r) {
+    const FixedRegion& region = scene.fixed[r];
+    index_t count = 0;
+    for (index_t v = 0; v < mesh.num_vertices(); ++v)
+      count += region.contains(&mesh.positions[3 * static_cast<std::size_t>(v)]) ? 1 : 0;
+    std::printf("%sfixed.%zu: %d vertices in [%g, %g, %g] - [%g, %g, %g], axes %s\n",
+                count == 0 ? "warning: " : "", r, count, region.box_min[0], region.box_min[1],
+                region.box_min[2], region.box_max[0], region.box_max[1], region.box_max[2],
+                region.axes.c_str());
+  }
+}
+
 }  // namespace
 
 int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
@@ -43,6 +58,8 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
                 mesh.source.c_str(), mesh.num_vertices(), mesh.num_tets(), size,
                 omp_get_max_threads());
   }
+
+  if (talk) report_fixed_regions(scene, mesh);
 
   Simulation<double> sim(comm, scene, mesh);
   if (talk && size > 1)

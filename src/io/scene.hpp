@@ -31,6 +31,12 @@ struct FixedRegion {
   std::array<double, 3> box_min{};
   std::array<double, 3> box_max{};
   std::string axes = "xyz";
+
+  bool contains(const double* p) const {
+    for (int i = 0; i < 3; ++i)
+      if (p[i] < box_min[i] || p[i] > box_max[i]) return false;
+    return true;
+  }
 };
 
 struct TimeSpec {

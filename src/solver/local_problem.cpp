@@ -15,12 +15,6 @@ std::uint8_t axes_mask(const std::string& axes) {
   return mask;
 }
 
-bool inside(const FixedRegion& region, const double* p) {
-  for (int i = 0; i < 3; ++i)
-    if (p[i] < region.box_min[i] || p[i] > region.box_max[i]) return false;
-  return true;
-}
-
 }  // namespace
 
 template <class Real>
@@ -66,7 +60,7 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   for (const FixedRegion& region : scene.fixed) {
     const std::uint8_t mask = axes_mask(region.axes);
     for (index_t v = 0; v < nv; ++v)
-      if (inside(region, &x[3 * static_cast<std::size_t>(v)])) fixed_[v] |= mask;
+      if (region.contains(&x[3 * static_cast<std::size_t>(v)])) fixed_[v] |= mask;
   }
 
   corner_grad_.resize(12 * static_cast<std::size_t>(nt));
