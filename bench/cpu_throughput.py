@@ -55,7 +55,8 @@ def main():
     parser.add_argument("--configs", nargs="+", default=["1x1", "1x2", "2x1"],
                         help="RANKSxTHREADS")
     parser.add_argument("--output", type=Path,
-                        default=ROOT / "bench/results/cpu_throughput.md")
+                        default=ROOT / "bench/results/cpu_throughput.md",
+                        help="Markdown file for the table")
     args = parser.parse_args()
 
     out_dir = ROOT / "out/bench"
