@@ -42,7 +42,8 @@ def run_once(binary, ranks, threads, preset, iterations, frames, out_dir):
     match = re.search(r"([0-9.]+) ns per tet-iteration", text)
     if not match:
         sys.exit(f"no ns per tet-iteration line in the output of {' '.join(cmd)}:\n{text}")
-    return float(match.group(1)), " ".join(cmd)
+    # Recorded relative to the repository, so results name no machine's paths.
+    return float(match.group(1)), " ".join(cmd).replace(f"{ROOT}/", "")
 
 
 def main():
