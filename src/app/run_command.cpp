@@ -77,7 +77,7 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   layout.tet_vertices = tets.vertices;
   layout.owned_rest_positions = rest;
   FrameWriter frames(comm, scene.output.dir, layout);
-  StatsWriter stats(comm, scene.output.dir);
+  StatsWriter stats(comm, scene.output.dir, sim.measurement_names());
   frames.write_frame(0, 0.0, sim.owned_positions());
 
   const double h = scene.time.dt;
@@ -103,6 +103,7 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
     row.wall_ms = ms;
     row.halo_ms = 1e3 * (sim.halo_counters().seconds - halo_before);
     row.allreduce_ms = 1e3 * (sim.reduction_counters().seconds - reduce_before);
+    row.extra = sim.measure();
     stats.write(row);
     if (frame % scene.output.every == 0)
       frames.write_frame(frame, frame * h, sim.owned_positions());

@@ -2,6 +2,7 @@
 
 #include "comm/mpi_check.hpp"
 #include "common/error.hpp"
+#include "solver/loads.hpp"
 
 namespace descent {
 
@@ -33,6 +34,7 @@ std::vector<int> partition_on_root(MPI_Comm comm, const Mesh& mesh) {
 }
 
 namespace {
+
 int comm_rank(MPI_Comm comm) {
   int r = 0;
   MPI_Comm_rank(comm, &r);
@@ -43,17 +45,73 @@ int comm_size(MPI_Comm comm) {
   MPI_Comm_size(comm, &s);
   return s;
 }
+
+// Share of each load region's force per global vertex.
+std::vector<std::vector<double>> scene_load_weights(const Scene& scene, const Mesh& mesh) {
+  std::vector<std::vector<double>> weights;
+  if (scene.loads.empty()) return weights;
+  const std::vector<Face> faces = boundary_faces(mesh);
+  for (std::size_t r = 0; r < scene.loads.size(); ++r)
+    weights.push_back(load_weights(mesh, faces, scene.loads[r], detail::concat("load.", r)));
+  return weights;
+}
+
+bool scene_needs_measurements(const Scene& scene) {
+  bool moving = false;
+  for (const FixedRegion& region : scene.fixed) moving = moving || region.motion.kind != "none";
+  return moving || !scene.loads.empty() || scene.time.quasistatic;
+}
+
+std::vector<std::string> scene_measurement_names(const Scene& scene) {
+  std::vector<std::string> names;
+  if (!scene_needs_measurements(scene)) return names;
+  const char* xyz[3] = {"x", "y", "z"};
+  for (std::size_t r = 0; r < scene.fixed.size(); ++r) {
+    for (const char* a : xyz) names.push_back(detail::concat("fixed", r, "_disp_", a));
+    for (const char* a : xyz) names.push_back(detail::concat("fixed", r, "_reaction_", a));
+  }
+  for (std::size_t r = 0; r < scene.loads.size(); ++r) {
+    for (const char* a : xyz) names.push_back(detail::concat("load", r, "_disp_", a));
+    for (const char* a : xyz) names.push_back(detail::concat("load", r, "_force_", a));
+  }
+  return names;
+}
+
 }  // namespace
 
 template <class Real>
 Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh)
-    : tet_part_(partition_on_root(comm, mesh)),
+    : scene_(scene),
+      measurement_names_(scene_measurement_names(scene)),
+      tet_part_(partition_on_root(comm, mesh)),
       local_(build_local_mesh(mesh, tet_part_, comm_rank(comm), comm_size(comm))),
       halo_(comm, local_),
       reduction_(comm),
-      problem_(local_, scene, halo_, reduction_),
+      problem_(local_, scene, halo_, reduction_, scene_load_weights(scene, mesh)),
       solver_(problem_, scene.solver),
       state_(rest_state<Real>(local_)) {}
+
+template <class Real>
+std::vector<double> Simulation<Real>::measure() {
+  if (measurement_names_.empty()) return {};
+  std::vector<double> sums = solver_.local_region_sums();
+  reduction_.sum_in_place(sums);
+  // Sums -> means and totals, in the order of measurement_names_.
+  std::vector<double> values;
+  const std::size_t nf = scene_.fixed.size();
+  for (std::size_t r = 0; r < nf; ++r) {
+    const double* s = &sums[7 * r];
+    for (int i = 0; i < 3; ++i) values.push_back(s[3] > 0 ? s[i] / s[3] : 0.0);
+    for (int i = 0; i < 3; ++i) values.push_back(s[4 + i]);
+  }
+  for (std::size_t r = 0; r < scene_.loads.size(); ++r) {
+    const double* s = &sums[7 * nf + 4 * r];
+    for (int i = 0; i < 3; ++i) values.push_back(s[3] > 0 ? s[i] / s[3] : 0.0);
+    const std::array<double, 3> force = load_force(scene_.loads[r], state_.time);
+    for (int i = 0; i < 3; ++i) values.push_back(force[i]);
+  }
+  return values;
+}
 
 template <class Real>
 std::vector<double> Simulation<Real>::owned_positions() const {

@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "comm/halo.hpp"
@@ -36,7 +37,15 @@ class Simulation {
   // Positions of owned vertices (3 per vertex, in local order [0, num_owned)).
   std::vector<double> owned_positions() const;
 
+  // Per-region measurements after the last step, for the stats: names and
+  // values in the same order (none when the scene has no load, no moving
+  // fixed region and is not quasi-static). Collective (one allreduce).
+  const std::vector<std::string>& measurement_names() const { return measurement_names_; }
+  std::vector<double> measure();
+
  private:
+  Scene scene_;
+  std::vector<std::string> measurement_names_;
   std::vector<int> tet_part_;
   LocalMesh local_;
   Halo<Real> halo_;

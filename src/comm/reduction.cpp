@@ -28,4 +28,11 @@ EnergySums EnergyReduction::sum(const Energy* local, int count) {
   return sums;
 }
 
+void EnergyReduction::sum_in_place(std::vector<double>& values) {
+  if (values.empty()) return;
+  DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()),
+                                  MPI_DOUBLE, MPI_SUM, comm_));
+  ++counters_.other_allreduces;
+}
+
 }  // namespace descent

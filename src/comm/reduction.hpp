@@ -4,6 +4,8 @@
 // MPI_Allreduce (no second collective for the NaN check).
 #include <mpi.h>
 
+#include <vector>
+
 namespace descent {
 
 // An energy and the sum of the magnitudes of its terms: the scale of its
@@ -22,7 +24,8 @@ struct EnergySums {
 };
 
 struct ReductionCounters {
-  long allreduces = 0;
+  long allreduces = 0;        // energy checks
+  long other_allreduces = 0;  // per-frame measurements
   double seconds = 0;
 };
 
@@ -31,6 +34,10 @@ class EnergyReduction {
   explicit EnergyReduction(MPI_Comm comm) : comm_(comm) {}
   // Global sums of `count` (1 or 2) local energies; one MPI_Allreduce.
   EnergySums sum(const Energy* local, int count);
+  // Sums `values` over all ranks in place: for per-frame measurements, never
+  // inside the iteration loop (counted apart from the energy checks).
+  void sum_in_place(std::vector<double>& values);
+
   const ReductionCounters& counters() const { return counters_; }
 
  private:

@@ -16,6 +16,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "common/mesh.hpp"
 
@@ -72,13 +73,17 @@ struct FrameStats {
   double wall_ms = 0;
   double halo_ms = 0;
   double allreduce_ms = 0;
+  std::vector<double> extra;  // values of the writer's extra columns, in order
 };
 
 class StatsWriter {
  public:
   // Collective over `comm`. Creates DIR if needed and opens DIR/stats.csv on
   // rank 0 of comm (other ranks hold nothing); throws on every rank if rank 0 cannot.
-  StatsWriter(MPI_Comm comm, const std::string& dir);
+  // `extra_columns` follow the fixed ones (per-region measurements); each row
+  // then carries one value per extra column in FrameStats::extra.
+  StatsWriter(MPI_Comm comm, const std::string& dir,
+              const std::vector<std::string>& extra_columns = {});
   ~StatsWriter();
   StatsWriter(const StatsWriter&) = delete;
   StatsWriter& operator=(const StatsWriter&) = delete;

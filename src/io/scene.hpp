@@ -25,23 +25,58 @@ struct MaterialSpec {
   double density = 1000;  // kg/m^3
 };
 
-// Vertices inside [box_min, box_max] (inclusive) are held at their rest
-// position along each axis listed in `axes` ("xyz", "y", "xz", ...).
+// Whether point p (xyz) lies in the closed box [lo, hi].
+inline bool in_box(const std::array<double, 3>& lo, const std::array<double, 3>& hi,
+                   const double* p) {
+  for (int i = 0; i < 3; ++i)
+    if (p[i] < lo[i] || p[i] > hi[i]) return false;
+  return true;
+}
+
+// Prescribed motion of a fixed region as a function of time t, applied to
+// the held axes of its vertices; the motion stops at t = `until`:
+//   translate: x(t) = X + velocity * min(t, until)
+//   rotate:    x(t) = centre + Rot(axis, angular_velocity * min(t, until)) (X - centre)
+struct Motion {
+  std::string kind = "none";  // none, translate, rotate
+  std::array<double, 3> velocity{};          // m/s
+  std::array<double, 3> axis{0.0, 1.0, 0.0};  // rotation axis (normalised on use)
+  std::array<double, 3> centre{};             // a point on the rotation axis
+  double angular_velocity = 0;                // rad/s
+  double until = 1e300;                       // s
+};
+
+// Vertices inside [box_min, box_max] (inclusive) are held along each axis
+// listed in `axes` ("xyz", "y", "xz", ...): at their rest position, or moved
+// by `motion`.
 struct FixedRegion {
   std::array<double, 3> box_min{};
   std::array<double, 3> box_max{};
   std::string axes = "xyz";
+  Motion motion;
 
-  bool contains(const double* p) const {
-    for (int i = 0; i < 3; ++i)
-      if (p[i] < box_min[i] || p[i] > box_max[i]) return false;
-    return true;
-  }
+  bool contains(const double* p) const { return in_box(box_min, box_max, p); }
+};
+
+// A surface load: the total force `force` spread over the boundary faces
+// whose three vertices lie in [box_min, box_max], by face area (each face
+// gives a third of its share to each of its vertices). It grows linearly from
+// zero to `force` over the first `ramp` seconds (0: applied at once).
+struct LoadRegion {
+  std::array<double, 3> box_min{};
+  std::array<double, 3> box_max{};
+  std::array<double, 3> force{};  // N
+  double ramp = 0;                // s
+
+  bool contains(const double* p) const { return in_box(box_min, box_max, p); }
 };
 
 struct TimeSpec {
   double dt = 1.0 / 30.0;  // s
   int frames = 60;
+  // No inertia (and no damping): each frame is a static equilibrium under
+  // the loads and motions at its time.
+  bool quasistatic = false;
 };
 
 // Parameters of DESIGN §1's descent iteration (paper 1, §4).
@@ -71,6 +106,7 @@ struct Scene {
   MaterialSpec material;
   std::array<double, 3> gravity{0.0, -9.81, 0.0};
   std::vector<FixedRegion> fixed;
+  std::vector<LoadRegion> loads;  // [[load]]
   TimeSpec time;
   SolverSpec solver;
   OutputSpec output;

@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 constexpr const char* kStatsName = "stats.csv";
 constexpr const char* kHeader =
-    "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms\n";
+    "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms";
 
 struct CloseFile {
   void operator()(std::FILE* file) const { std::fclose(file); }
@@ -34,13 +34,20 @@ std::string format_ms(double ms) {
 
 struct StatsWriter::Impl {
   fs::path path;
+  std::size_t extra_columns = 0;
   FilePtr file;  // rank 0 only
 };
 
 // Collective over comm: rank 0 tells every rank whether it could open the file,
 // so that all ranks throw together instead of the others waiting for rank 0.
-StatsWriter::StatsWriter(MPI_Comm comm, const std::string& dir) : impl_(std::make_unique<Impl>()) {
+StatsWriter::StatsWriter(MPI_Comm comm, const std::string& dir,
+                         const std::vector<std::string>& extra_columns)
+    : impl_(std::make_unique<Impl>()) {
   impl_->path = fs::path(dir) / kStatsName;
+  impl_->extra_columns = extra_columns.size();
+  std::string header = kHeader;
+  for (const std::string& column : extra_columns) header += "," + column;
+  header += "\n";
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   int error = 0;  // errno value on rank 0
@@ -51,7 +58,7 @@ StatsWriter::StatsWriter(MPI_Comm comm, const std::string& dir) : impl_(std::mak
       error = created.value();
     } else {
       impl_->file.reset(std::fopen(impl_->path.c_str(), "w"));
-      if (!impl_->file || std::fputs(kHeader, impl_->file.get()) < 0 ||
+      if (!impl_->file || std::fputs(header.c_str(), impl_->file.get()) < 0 ||
           std::fflush(impl_->file.get()) != 0)
         error = errno != 0 ? errno : EIO;
     }
@@ -67,10 +74,14 @@ StatsWriter::~StatsWriter() = default;
 // Not collective: a failure here throws on rank 0 only.
 void StatsWriter::write(const FrameStats& row) {
   if (!impl_->file) return;
-  const std::string line = detail::concat(
+  DESCENT_VERIFY(row.extra.size() == impl_->extra_columns, "stats row has ", row.extra.size(),
+                 " extra values for ", impl_->extra_columns, " extra columns");
+  std::string line = detail::concat(
       row.frame, ',', format_double(row.sim_time), ',', row.iterations, ',', row.rollbacks, ',',
       format_double(row.alpha), ',', format_double(row.energy), ',', format_ms(row.wall_ms), ',',
-      format_ms(row.halo_ms), ',', format_ms(row.allreduce_ms), '\n');
+      format_ms(row.halo_ms), ',', format_ms(row.allreduce_ms));
+  for (double value : row.extra) line += "," + format_double(value);
+  line += '\n';
   if (std::fputs(line.c_str(), impl_->file.get()) < 0 || std::fflush(impl_->file.get()) != 0)
     throw InputError(detail::concat("cannot write ", impl_->path.string(), ": ",
                                     std::generic_category().message(errno)));

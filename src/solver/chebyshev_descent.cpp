@@ -32,12 +32,12 @@ ChebyshevDescent<Real>::ChebyshevDescent(LocalProblem<Real>& problem, const Solv
   for (auto* v : {&y_, &qt_, &q_, &q_prev_, &q_checked_, &q_next_, &diag_}) v->resize(n);
 }
 
-// Prediction of q_{t+1} (paper 1, §4.4); fixed axes stay where they are.
+// Prediction of q_{t+1} (paper 1, §4.4); the caller then puts held axes
+// where their motion says.
 template <class Real>
 void ChebyshevDescent<Real>::initial_guess(const BodyState<Real>& state) {
   const Real h = problem_.dt();
   const Real eta = static_cast<Real>(spec_.eta);
-  const auto& fixed = problem_.fixed_axes();
   // Weights of h v and of h (v - v_prev) in the guess q_t + ... .
   const Real w_velocity = spec_.init == "position" ? Real(0) : Real(1);
   const Real w_acceleration = spec_.init == "constant_acceleration" ? eta : Real(0);
@@ -47,19 +47,23 @@ void ChebyshevDescent<Real>::initial_guess(const BodyState<Real>& state) {
     const Real qt = state.q[k], v = state.v[k];
     qt_[k] = qt;
     y_[k] = qt + h * v;
-    const bool held = fixed[k / 3] & (1u << (k % 3));
-    q_[k] = held ? qt : qt + h * (w_velocity * v + w_acceleration * (v - state.v_prev[k]));
+    q_[k] = qt + h * (w_velocity * v + w_acceleration * (v - state.v_prev[k]));
   }
 }
 
 template <class Real>
 StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
+  const double t_next = state.time + static_cast<double>(problem_.dt());
+  problem_.begin_step(t_next);
   initial_guess(state);
+  problem_.hold_fixed(t_next, q_.data());
   StepStats stats;
   alpha_ = std::min(spec_.alpha_max, alpha_ / spec_.gamma);
   const auto& mass = problem_.mass();
   const auto& fixed = problem_.fixed_axes();
   const VertexTerms<Real> terms = problem_.vertex_terms();
+  const Real* floor = problem_.diagonal_floor().data();
+  const Real* force = problem_.external_force().data();
   const Real rho2 = static_cast<Real>(spec_.rho * spec_.rho);
   const std::size_t n = q_.size();
 
@@ -90,13 +94,14 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     for (std::size_t dof = 0; dof < n; ++dof) {
       const std::size_t v = dof / 3;
       const int axis = static_cast<int>(dof % 3);
-      if (refresh_diagonal) diag_[dof] = dof_diagonal(terms, mass[v], a[width * v + 3 + axis]);
+      if (refresh_diagonal)
+        diag_[dof] = dof_diagonal(terms, mass[v], a[width * v + 3 + axis], floor[dof]);
       if (fixed[v] & (1u << axis)) {
         q_next_[dof] = q_[dof];
         continue;
       }
-      const Real g =
-          dof_gradient(terms, mass[v], a[width * v + axis], q_[dof], y_[dof], qt_[dof], axis);
+      const Real g = dof_gradient(terms, mass[v], a[width * v + axis], q_[dof], y_[dof], qt_[dof],
+                                  force[dof], axis);
       q_next_[dof] = chebyshev_dof(q_[dof], q_prev_[dof], g, diag_[dof], alpha, omega);
     }
     std::swap(q_prev_, q_);
@@ -143,7 +148,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     state.v[k] = (q_[k] - qt_[k]) * inv_h;
     state.q[k] = q_[k];
   }
-  state.time += problem_.dt();
+  state.time = t_next;
   stats.alpha = alpha_;
   stats.energy = checked_energy;
   return stats;

@@ -41,6 +41,12 @@ class ChebyshevDescent {
   ChebyshevDescent(LocalProblem<Real>& problem, const SolverSpec& spec);
   StepStats step(BodyState<Real>& state);
 
+  // LocalProblem::local_region_sums at the end of the last step (the
+  // reaction is the gradient of that step's potential).
+  std::vector<double> local_region_sums() {
+    return problem_.local_region_sums(q_.data(), y_.data(), qt_.data());
+  }
+
  private:
   void initial_guess(const BodyState<Real>& state);
 

@@ -4,6 +4,7 @@
 
 #include "common/error.hpp"
 #include "kernels/cpu/element_loops.hpp"
+#include "solver/loads.hpp"
 
 namespace descent {
 
@@ -19,16 +20,21 @@ std::uint8_t axes_mask(const std::string& axes) {
 
 template <class Real>
 LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo<Real>& halo,
-                                 EnergyReduction& reduction)
+                                 EnergyReduction& reduction,
+                                 const std::vector<std::vector<double>>& load_weights)
     : mesh_(mesh),
       halo_(halo),
       reduction_(reduction),
       model_(NeoHookean<Real>::from_young_poisson(static_cast<Real>(scene.material.young),
                                                   static_cast<Real>(scene.material.poisson))),
-      dt_(static_cast<Real>(scene.time.dt)) {
+      dt_(static_cast<Real>(scene.time.dt)),
+      fixed_regions_(scene.fixed),
+      load_regions_(scene.loads) {
   const double h = scene.time.dt;
-  terms_.inv_h2 = static_cast<Real>(1.0 / (h * h));
-  terms_.damping_over_h = static_cast<Real>(scene.solver.damping / h);
+  // A quasi-static solve has no inertia and no damping.
+  const bool dynamic = !scene.time.quasistatic;
+  terms_.inv_h2 = static_cast<Real>(dynamic ? 1.0 / (h * h) : 0.0);
+  terms_.damping_over_h = static_cast<Real>(dynamic ? scene.solver.damping / h : 0.0);
   for (int i = 0; i < 3; ++i) terms_.gravity[i] = static_cast<Real>(scene.gravity[i]);
 
   const index_t nt = mesh.num_tets(), nv = mesh.num_vertices();
@@ -56,16 +62,105 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   mass_.resize(nv);
   for (index_t v = 0; v < nv; ++v) mass_[v] = mass3[3 * static_cast<std::size_t>(v)];
 
+  // A vertex in several fixed regions is held on the union of their axes and
+  // moved by the last of them that moves.
   fixed_.assign(nv, 0);
-  for (const FixedRegion& region : scene.fixed) {
+  motion_region_.assign(nv, -1);
+  for (std::size_t r = 0; r < scene.fixed.size(); ++r) {
+    const FixedRegion& region = scene.fixed[r];
     const std::uint8_t mask = axes_mask(region.axes);
-    for (index_t v = 0; v < nv; ++v)
-      if (region.contains(&x[3 * static_cast<std::size_t>(v)])) fixed_[v] |= mask;
+    for (index_t v = 0; v < nv; ++v) {
+      if (!region.contains(&x[3 * static_cast<std::size_t>(v)])) continue;
+      fixed_[v] |= mask;
+      if (region.motion.kind != "none") motion_region_[v] = static_cast<int>(r);
+    }
   }
+
+  load_weights_.resize(load_regions_.size());
+  for (std::size_t r = 0; r < load_regions_.size(); ++r) {
+    load_weights_[r].resize(nv);
+    for (index_t v = 0; v < nv; ++v) load_weights_[r][v] = load_weights[r][mesh.global_vertex[v]];
+  }
+  external_force_.assign(3 * static_cast<std::size_t>(nv), Real(0));
 
   corner_grad_.resize(12 * static_cast<std::size_t>(nt));
   corner_diag_.resize(12 * static_cast<std::size_t>(nt));
   partial_.resize(6 * static_cast<std::size_t>(nv));
+
+  // Floor of the diagonal: the mass term in dynamics; without inertia, a
+  // small fraction of the rest stiffness, so d stays positive where a model's
+  // curvature is not.
+  diagonal_floor_.resize(3 * static_cast<std::size_t>(nv));
+  if (dynamic) {
+    for (index_t v = 0; v < nv; ++v)
+      for (int i = 0; i < 3; ++i)
+        diagonal_floor_[3 * v + i] = mass_[v] * (terms_.inv_h2 + terms_.damping_over_h);
+  } else {
+    const std::vector<Real> rest(x.begin(), x.end());
+    const Assembled at_rest = elastic_gradient(rest.data(), true);
+    constexpr Real kRestStiffnessFraction = Real(1e-3);
+    for (index_t v = 0; v < nv; ++v)
+      for (int i = 0; i < 3; ++i)
+        diagonal_floor_[3 * v + i] =
+            kRestStiffnessFraction * at_rest.values[at_rest.width * v + 3 + i];
+  }
+}
+
+template <class Real>
+void LocalProblem<Real>::begin_step(double t) {
+  const index_t nv = mesh_.num_vertices();
+  std::fill(external_force_.begin(), external_force_.end(), Real(0));
+  for (std::size_t r = 0; r < load_regions_.size(); ++r) {
+    const std::array<double, 3> force = load_force(load_regions_[r], t);
+    for (index_t v = 0; v < nv; ++v)
+      for (int i = 0; i < 3; ++i)
+        external_force_[3 * v + i] += static_cast<Real>(load_weights_[r][v] * force[i]);
+  }
+}
+
+template <class Real>
+void LocalProblem<Real>::hold_fixed(double t, Real* q) const {
+  const index_t nv = mesh_.num_vertices();
+  for (index_t v = 0; v < nv; ++v) {
+    if (!fixed_[v]) continue;
+    const double* rest = &mesh_.rest_positions[3 * static_cast<std::size_t>(v)];
+    const std::array<double, 3> at =
+        motion_region_[v] < 0 ? std::array<double, 3>{rest[0], rest[1], rest[2]}
+                              : moved_position(fixed_regions_[motion_region_[v]].motion, rest, t);
+    for (int i = 0; i < 3; ++i)
+      if (fixed_[v] & (1u << i)) q[3 * v + i] = static_cast<Real>(at[i]);
+  }
+}
+
+template <class Real>
+std::vector<double> LocalProblem<Real>::local_region_sums(const Real* q, const Real* y,
+                                                          const Real* qt) {
+  const Assembled g = elastic_gradient(q, false);
+  const std::size_t nf = fixed_regions_.size();
+  std::vector<double> sums(7 * nf + 4 * load_regions_.size(), 0.0);
+  const auto& x = mesh_.rest_positions;
+  for (index_t v = 0; v < mesh_.num_owned; ++v) {
+    const double* rest = &x[3 * static_cast<std::size_t>(v)];
+    auto add_displacement = [&](double* s) {
+      for (int i = 0; i < 3; ++i) s[i] += q[3 * v + i] - rest[i];
+      s[3] += 1;
+    };
+    for (std::size_t r = 0; r < nf; ++r) {
+      if (!fixed_regions_[r].contains(rest)) continue;
+      double* s = &sums[7 * r];
+      add_displacement(s);
+      const std::uint8_t mask = axes_mask(fixed_regions_[r].axes);
+      for (int i = 0; i < 3; ++i) {
+        if (!(mask & (1u << i))) continue;
+        const std::size_t k = 3 * static_cast<std::size_t>(v) + i;
+        s[4 + i] += dof_gradient(terms_, mass_[v], g.values[g.width * v + i], q[k], y[k], qt[k],
+                                 external_force_[k], i);
+      }
+    }
+    for (std::size_t r = 0; r < load_regions_.size(); ++r)
+      if (load_regions_[r].contains(rest)) add_displacement(&sums[7 * nf + 4 * r]);
+  }
+  return sums;
 }
 
 template <class Real>
@@ -106,7 +201,7 @@ Energy LocalProblem<Real>::local_energy(const Real* q, const Real* y, const Real
   for (index_t v = 0; v < owned; ++v) {
     for (int i = 0; i < 3; ++i) {
       const std::size_t k = 3 * static_cast<std::size_t>(v) + i;
-      const double term = dof_energy(terms_, mass_[v], q[k], y[k], qt[k], i);
+      const double term = dof_energy(terms_, mass_[v], q[k], y[k], qt[k], external_force_[k], i);
       value += term;
       magnitude += std::abs(term);
     }

@@ -22,8 +22,10 @@ namespace descent {
 template <class Real>
 class LocalProblem {
  public:
+  // `load_weights` holds, per [[load]] region, its share of the force per
+  // global vertex (solver/loads.hpp).
   LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo<Real>& halo,
-               EnergyReduction& reduction);
+               EnergyReduction& reduction, const std::vector<std::vector<double>>& load_weights);
 
   index_t num_vertices() const { return mesh_.num_vertices(); }
   const LocalMesh& mesh() const { return mesh_; }
@@ -34,6 +36,22 @@ class LocalProblem {
   const std::vector<Real>& mass() const { return mass_; }
   const std::vector<std::uint8_t>& fixed_axes() const { return fixed_; }
   const VertexTerms<Real>& vertex_terms() const { return terms_; }
+  // Lower bound of the diagonal per dof (kernels/vertex.hpp, dof_diagonal).
+  const std::vector<Real>& diagonal_floor() const { return diagonal_floor_; }
+  // External (surface-load) force per dof at the time of the current step.
+  const std::vector<Real>& external_force() const { return external_force_; }
+
+  // Sets the loads to their values at time t (the end of the step).
+  void begin_step(double t);
+  // Writes the prescribed positions at time t into the held dofs of q.
+  void hold_fixed(double t, Real* q) const;
+
+  // Per region, this rank's sums over its owned vertices, for the stats:
+  // fixed region r: [displacement xyz, vertex count, reaction xyz] (the
+  // reaction is grad eps on the held dofs: the force the support exerts);
+  // load region r: [displacement xyz, vertex count]. Fixed regions first.
+  // Evaluates the gradient (one halo exchange), no collective.
+  std::vector<double> local_region_sums(const Real* q, const Real* y, const Real* qt);
 
   // Elastic gradient, and the elastic Hessian diagonal when `with_diagonal`,
   // complete on every local vertex (shared ones summed over all sharers).
@@ -63,6 +81,12 @@ class LocalProblem {
   NeoHookean<Real> model_;
   Real dt_;
   VertexTerms<Real> terms_;
+  std::vector<FixedRegion> fixed_regions_;
+  std::vector<LoadRegion> load_regions_;
+  std::vector<std::vector<double>> load_weights_;  // per load region, per local vertex
+  std::vector<int> motion_region_;    // per local vertex: fixed region moving it, or -1
+  std::vector<Real> external_force_;  // 3 per local vertex
+  std::vector<Real> diagonal_floor_;  // 3 per local vertex
   std::vector<TetRest<Real>> rest_;
   std::vector<Real> mass_;
   std::vector<std::uint8_t> fixed_;
