@@ -11,6 +11,42 @@
 
 namespace descent {
 
+// Building blocks of 9x9 stress derivatives dPdF, shared by the neo-Hookean
+// family. Layout: h[(3i+j)*9 + 3k+l] = dP_ij / dF_kl; vec(A)_(3i+j) = A_ij.
+
+// h += s (vec(a) vec(b)^T + vec(b) vec(a)^T)
+template <class Real>
+DESCENT_HOST_DEVICE inline void add_symmetric_outer(const Mat3<Real>& a, const Mat3<Real>& b,
+                                                    Real s, Real h[81]) {
+  for (int r = 0; r < 9; ++r)
+    for (int c = 0; c < 9; ++c) h[9 * r + c] += s * (a.m[r] * b.m[c] + b.m[r] * a.m[c]);
+}
+
+// h += s vec(a) vec(a)^T
+template <class Real>
+DESCENT_HOST_DEVICE inline void add_outer(const Mat3<Real>& a, Real s, Real h[81]) {
+  for (int r = 0; r < 9; ++r)
+    for (int c = 0; c < 9; ++c) h[9 * r + c] += s * a.m[r] * a.m[c];
+}
+
+// h += s d2(det F)/dF2, whose entry (ij, kl) is eps_ikm eps_jln F_mn: zero
+// when i = k or j = l, else +-F_mn with m, n the remaining row and column.
+template <class Real>
+DESCENT_HOST_DEVICE inline void add_det_hessian(const Mat3<Real>& f, Real s, Real h[81]) {
+  // eps of (i, k, 3-i-k) for i != k: +1 for cyclic order (k = i+1 mod 3).
+  const auto eps = [](int i, int k) { return (k - i + 3) % 3 == 1 ? 1 : -1; };
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      if (i == k) continue;
+      for (int j = 0; j < 3; ++j)
+        for (int l = 0; l < 3; ++l) {
+          if (j == l) continue;
+          const Real sign = Real(eps(i, k) * eps(j, l));
+          h[(3 * i + j) * 9 + 3 * k + l] += s * sign * f.m[3 * (3 - i - k) + 3 - j - l];
+        }
+    }
+}
+
 template <class Real>
 struct NeoHookean {
   Real mu;
@@ -68,6 +104,28 @@ struct NeoHookean {
       }
       out[a] = {d[0], d[1], d[2]};
     }
+  }
+
+  // dPdF[(3i+j)*9 + 3k+l] = dP_ij/dF_kl. With G = cof(F), dJ = G : dF and
+  // dG = d2J/dF2 dF, differentiating P = a F + b G (a, b as in stress) gives
+  //   dPdF = a I + c1 (F (x) G + G (x) F) + c2 G (x) G + b d2J/dF2,
+  //   c1 = -2/3 mu J^(-5/3),   c2 = 5/9 mu I1 J^(-8/3) + kappa.
+  DESCENT_HOST_DEVICE void stress_derivative(const Mat3<Real>& f, Real dpdf[81]) const {
+    const Mat3<Real> c = cofactor(f);
+    const Real j = f.m[0] * c.m[0] + f.m[1] * c.m[1] + f.m[2] * c.m[2];
+    const Real cbrt_j = std::cbrt(j);
+    const Real j_m23 = Real(1) / (cbrt_j * cbrt_j);
+    const Real inv_j = Real(1) / j;
+    const Real i1 = ddot(f, f);
+    const Real a = mu * j_m23;
+    const Real b = -mu / Real(3) * i1 * j_m23 * inv_j + kappa * (j - Real(1));
+    const Real c1 = -Real(2) / Real(3) * mu * j_m23 * inv_j;
+    const Real c2 = Real(5) / Real(9) * mu * i1 * j_m23 * inv_j * inv_j + kappa;
+    for (int k = 0; k < 81; ++k) dpdf[k] = 0;
+    for (int k = 0; k < 9; ++k) dpdf[10 * k] = a;
+    add_symmetric_outer(f, c, c1, dpdf);
+    add_outer(c, c2, dpdf);
+    add_det_hessian(f, b, dpdf);
   }
 };
 
