@@ -18,11 +18,26 @@ struct MeshSpec {
   BoxParams box;
 };
 
+// Invertible model conversion (paper 1, Eqs. 17-19): per element an
+// interpolant l in [0, 1] toward the `arap` energy, driven by the smallest
+// signed singular value of F between lambda_minus and lambda_plus, decaying
+// by at most `decay` (L) per iteration.
+struct ConversionSpec {
+  bool enabled = false;
+  double lambda_minus = 0.05;
+  double lambda_plus = 0.15;
+  double decay = 0.05;
+};
+
 struct MaterialSpec {
+  // stvk, neo_hookean, mooney_rivlin, fung, corotated, arap (DESIGN §1)
   std::string model = "neo_hookean";
-  double young = 1.0e5;  // Pa
+  double young = 1.0e5;   // Pa
   double poisson = 0.3;
   double density = 1000;  // kg/m^3
+  double c2 = 0;          // Pa: mooney_rivlin and fung
+  double c3 = 0;          // fung's exponential rate
+  ConversionSpec conversion;
 };
 
 // Whether point p (xyz) lies in the closed box [lo, hi].

@@ -1,6 +1,7 @@
 #include "io/scene_checks.hpp"
 
 #include <algorithm>
+#include <array>
 #include <initializer_list>
 #include <string>
 #include <string_view>
@@ -39,8 +40,34 @@ bool is_axis_set(const std::string& axes) {
   return true;
 }
 
-void check_fixed_region(const SceneDocument& doc, const FixedRegion& region, std::size_t i) {
-  const std::string prefix = detail::concat("fixed.", i, ".");
+// box_min <= box_max along each axis, for the region at `prefix`
+// ("fixed.0.", "load.2.").
+void check_box_order(const SceneDocument& doc, const std::string& prefix,
+                     const std::array<double, 3>& box_min, const std::array<double, 3>& box_max) {
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    if (box_min[axis] > box_max[axis]) {
+      const std::string key = prefix + "box_min";
+      throw InputError(detail::concat(
+          doc.where(key), ": ", key, " must not exceed ", prefix, "box_max, but its ", "xyz"[axis],
+          " is ", format_number(box_min[axis]), " > ", format_number(box_max[axis])));
+    }
+  }
+}
+
+void check_motion(const SceneDocument& doc, const Motion& motion, const std::string& prefix) {
+  require_one_of(doc, prefix + "kind", motion.kind, {"none", "translate", "rotate"});
+  // A zero axis has no direction to normalise; it only matters for a rotation.
+  const bool zero_axis = motion.axis == std::array<double, 3>{};
+  if (motion.kind == "rotate" && zero_axis) {
+    const std::string key = prefix + "axis";
+    throw InputError(detail::concat(doc.where(key), ": ", key, " must not be [0, 0, 0] when ",
+                                    prefix, "kind is \"rotate\""));
+  }
+  require(doc, motion.until >= 0, prefix + "until", ">= 0", motion.until);
+}
+
+// A [[fixed]] table; `prefix` names it ("fixed.0.").
+void check_entry(const SceneDocument& doc, const FixedRegion& region, const std::string& prefix) {
   if (!is_axis_set(region.axes)) {
     const std::string key = prefix + "axes";
     throw InputError(detail::concat(doc.where(key), ": ", key,
@@ -48,14 +75,62 @@ void check_fixed_region(const SceneDocument& doc, const FixedRegion& region, std
                                     "\"xz\", ...), got \"",
                                     region.axes, "\""));
   }
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    if (region.box_min[axis] > region.box_max[axis]) {
-      const std::string key = prefix + "box_min";
-      throw InputError(detail::concat(
-          doc.where(key), ": ", key, " must not exceed ", prefix, "box_max, but its ", "xyz"[axis],
-          " is ", format_number(region.box_min[axis]), " > ", format_number(region.box_max[axis])));
-    }
+  check_box_order(doc, prefix, region.box_min, region.box_max);
+  check_motion(doc, region.motion, prefix + "motion.");
+}
+
+// A [[load]] table; `prefix` names it ("load.0.").
+void check_entry(const SceneDocument& doc, const LoadRegion& region, const std::string& prefix) {
+  check_box_order(doc, prefix, region.box_min, region.box_max);
+  require(doc, region.ramp >= 0, prefix + "ramp", ">= 0", region.ramp);
+}
+
+// A material parameter only some models use. Set to nonzero for another
+// model it would be silently ignored, which almost always means the model was
+// forgotten, so it is an error; 0 (its default) is accepted with any model.
+void check_model_parameter(const SceneDocument& doc, std::string_view key, double value,
+                           const std::string& model,
+                           std::initializer_list<std::string_view> users) {
+  if (value == 0 || std::find(users.begin(), users.end(), model) != users.end()) return;
+  std::string listed;
+  for (std::string_view user : users) {
+    listed += (listed.empty() ? "\"" : "\" and \"") + std::string(user);
   }
+  throw InputError(detail::concat(doc.where(key), ": ", key, " is used only by ", listed,
+                                  "\", but material.model is \"", model, "\" (set ", key,
+                                  " to 0 or change the model)"));
+}
+
+// The conversion parameters are checked even while it is disabled, so that
+// switching it on (--set material.conversion.enabled=true) cannot fail late.
+void check_conversion(const SceneDocument& doc, const ConversionSpec& conversion) {
+  require(doc, conversion.lambda_minus >= 0, "material.conversion.lambda_minus", ">= 0",
+          conversion.lambda_minus);
+  if (conversion.lambda_minus >= conversion.lambda_plus) {
+    // Either may be the one mistyped; point at one the scene sets.
+    const char* culprit = doc.has("material.conversion.lambda_minus")
+                              ? "material.conversion.lambda_minus"
+                              : "material.conversion.lambda_plus";
+    throw InputError(detail::concat(doc.where(culprit), ": material.conversion.lambda_minus (",
+                                    format_number(conversion.lambda_minus),
+                                    ") must be less than material.conversion.lambda_plus (",
+                                    format_number(conversion.lambda_plus), ")"));
+  }
+  require(doc, conversion.decay >= 0, "material.conversion.decay", ">= 0", conversion.decay);
+}
+
+void check_material(const SceneDocument& doc, const MaterialSpec& material) {
+  require_one_of(doc, "material.model", material.model,
+                 {"stvk", "neo_hookean", "mooney_rivlin", "fung", "corotated", "arap"});
+  require(doc, material.young > 0, "material.young", "> 0", material.young);
+  require(doc, material.poisson > -1 && material.poisson < 0.5, "material.poisson", "in (-1, 0.5)",
+          material.poisson);
+  require(doc, material.density > 0, "material.density", "> 0", material.density);
+  require(doc, material.c2 >= 0, "material.c2", ">= 0", material.c2);
+  require(doc, material.c3 >= 0, "material.c3", ">= 0", material.c3);
+  check_model_parameter(doc, "material.c2", material.c2, material.model, {"mooney_rivlin", "fung"});
+  check_model_parameter(doc, "material.c3", material.c3, material.model, {"fung"});
+  check_conversion(doc, material.conversion);
 }
 
 void check_helix(const SceneDocument& doc, const DoubleHelixParams& helix) {
@@ -134,14 +209,13 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   if (scene.mesh.generator == "double_helix") check_helix(doc, scene.mesh.helix);
   if (scene.mesh.generator == "box") check_box(doc, scene.mesh.box);
 
-  const MaterialSpec& material = scene.material;
-  require_one_of(doc, "material.model", material.model, {"neo_hookean"});
-  require(doc, material.young > 0, "material.young", "> 0", material.young);
-  require(doc, material.poisson > -1 && material.poisson < 0.5, "material.poisson", "in (-1, 0.5)",
-          material.poisson);
-  require(doc, material.density > 0, "material.density", "> 0", material.density);
+  check_material(doc, scene.material);
 
-  for (std::size_t i = 0; i < scene.fixed.size(); ++i) check_fixed_region(doc, scene.fixed[i], i);
+  visit_scene_arrays(scene, [&doc](std::string_view name, const auto& entries) {
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+      check_entry(doc, entries[i], detail::concat(name, ".", i, "."));
+    }
+  });
 
   require(doc, scene.time.dt > 0, "time.dt", "> 0", scene.time.dt);
   require(doc, scene.time.frames >= 0, "time.frames", ">= 0", scene.time.frames);

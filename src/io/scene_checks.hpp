@@ -15,7 +15,9 @@ void check_mesh_source(const SceneDocument& doc, const Scene& scene);
 // helix resolution.
 void apply_helix_preset(const SceneDocument& doc, SceneFields& fields);
 
-// Names of models and methods, numeric ranges and [[fixed]] regions.
+// Names of models and methods, numeric ranges, model parameters (c2, c3)
+// only with the models that use them, [[fixed]] regions with their motions
+// and [[load]] regions.
 void check_scene_values(const SceneDocument& doc, const Scene& scene);
 
 }  // namespace descent

@@ -2,7 +2,8 @@
 // The one list of scene keys. Every stage of scene reading walks it: the
 // unknown-key check (and its suggestions) and the typed reading, so a key
 // added here is accepted, suggested and read, with its type taken from the
-// field it fills.
+// field it fills. A dotted key ("motion.kind") lives in a nested table,
+// which the unknown-key check then accepts as a table.
 #include <string>
 #include <string_view>
 
@@ -17,7 +18,7 @@ struct SceneFields {
   std::string helix_preset;  // mesh.helix.preset: a named mesh.helix.resolution
 };
 
-// Calls visit(dotted_key, field) for every key outside [[fixed]].
+// Calls visit(dotted_key, field) for every key outside the arrays of tables.
 template <class Visit>
 void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   Scene& scene = fields.scene;
@@ -40,10 +41,18 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("material.young", scene.material.young);
   visit("material.poisson", scene.material.poisson);
   visit("material.density", scene.material.density);
+  visit("material.c2", scene.material.c2);
+  visit("material.c3", scene.material.c3);
+  ConversionSpec& conversion = scene.material.conversion;
+  visit("material.conversion.enabled", conversion.enabled);
+  visit("material.conversion.lambda_minus", conversion.lambda_minus);
+  visit("material.conversion.lambda_plus", conversion.lambda_plus);
+  visit("material.conversion.decay", conversion.decay);
   visit("gravity", scene.gravity);
 
   visit("time.dt", scene.time.dt);
   visit("time.frames", scene.time.frames);
+  visit("time.quasistatic", scene.time.quasistatic);
 
   SolverSpec& solver = scene.solver;
   visit("solver.method", solver.method);
@@ -63,15 +72,37 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("output.every", scene.output.every);
 }
 
-// [[fixed]] is the scene's one array of tables; each of its tables holds
-// the keys below (addressed as fixed.0.axes, fixed.1.box_min, ...).
-inline constexpr std::string_view kFixedArrayKey = "fixed";
+// The scene's arrays of tables ([[fixed]], [[load]]): calls
+// visit(name, entries) for each, `entries` being the vector its tables fill.
+// Each table holds the keys that visit_entry_keys lists for its entry type,
+// addressed in messages and overrides as fixed.0.axes, load.1.force, ...
+// A const Scene gives const vectors, for the checks of the entries.
+template <class SceneType, class Visit>
+void visit_scene_arrays(SceneType& scene, Visit&& visit) {
+  visit("fixed", scene.fixed);
+  visit("load", scene.loads);
+}
 
 template <class Visit>
-void visit_fixed_keys(FixedRegion& region, Visit&& visit) {
+void visit_entry_keys(FixedRegion& region, Visit&& visit) {
   visit("box_min", region.box_min);
   visit("box_max", region.box_max);
   visit("axes", region.axes);
+  Motion& motion = region.motion;  // the optional [fixed.motion] table
+  visit("motion.kind", motion.kind);
+  visit("motion.velocity", motion.velocity);
+  visit("motion.axis", motion.axis);
+  visit("motion.centre", motion.centre);
+  visit("motion.angular_velocity", motion.angular_velocity);
+  visit("motion.until", motion.until);
+}
+
+template <class Visit>
+void visit_entry_keys(LoadRegion& region, Visit&& visit) {
+  visit("box_min", region.box_min);
+  visit("box_max", region.box_max);
+  visit("force", region.force);
+  visit("ramp", region.ramp);
 }
 
 }  // namespace descent

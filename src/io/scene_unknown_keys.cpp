@@ -19,11 +19,21 @@ std::vector<std::string> scene_keys() {
   return keys;
 }
 
-std::vector<std::string> fixed_keys() {
-  std::vector<std::string> keys;
-  FixedRegion unused;
-  visit_fixed_keys(unused, [&keys](std::string_view key, auto&) { keys.emplace_back(key); });
-  return keys;
+// An array of tables and the keys each of its tables may hold.
+struct ArraySchema {
+  std::string name;
+  std::vector<std::string> entry_keys;
+};
+
+std::vector<ArraySchema> array_schemas() {
+  std::vector<ArraySchema> arrays;
+  Scene unused;
+  visit_scene_arrays(unused, [&arrays](std::string_view name, auto& entries) {
+    ArraySchema& array = arrays.emplace_back(ArraySchema{std::string(name), {}});
+    visit_entry_keys(entries.emplace_back(),
+                     [&array](std::string_view key, auto&) { array.entry_keys.emplace_back(key); });
+  });
+  return arrays;
 }
 
 std::string join_key(const std::string& table_key, std::string_view name) {
@@ -89,7 +99,7 @@ class KeyChecker {
  private:
   // `table` sits at `table_key` of the schema described by `keys`;
   // `shown_prefix` places that schema in the scene ("fixed.1." for the
-  // second [[fixed]] table, empty otherwise).
+  // second [[fixed]] table, empty outside the arrays of tables).
   void check_table(const toml::table& table, const std::vector<std::string>& keys,
                    const std::string& table_key, const std::string& shown_prefix) const {
     const bool at_scene_root = table_key.empty() && shown_prefix.empty();
@@ -103,23 +113,32 @@ class KeyChecker {
         check_table(*node.as_table(), keys, key, shown_prefix);
         continue;
       }
-      if (at_scene_root && name.str() == kFixedArrayKey) {
-        check_fixed_entries(node);
+      if (const ArraySchema* array = at_scene_root ? find_array(name.str()) : nullptr) {
+        check_array_entries(node, *array);
         continue;
       }
       throw_unknown(node, name.str(), keys, table_key, shown_prefix);
     }
   }
 
-  void check_fixed_entries(const toml::node& node) const {
-    const std::string shown(kFixedArrayKey);
+  const ArraySchema* find_array(std::string_view name) const {
+    for (const ArraySchema& array : arrays_) {
+      if (array.name == name) return &array;
+    }
+    return nullptr;
+  }
+
+  void check_array_entries(const toml::node& node, const ArraySchema& array) const {
     const toml::array* entries = node.as_array();
-    if (!entries) throw_wrong_kind(node, shown, "an array of tables ([[fixed]])");
+    if (!entries) {
+      throw_wrong_kind(node, array.name,
+                       detail::concat("an array of tables ([[", array.name, "]])"));
+    }
     for (std::size_t i = 0; i < entries->size(); ++i) {
-      const std::string entry_key = detail::concat(shown, ".", i);
+      const std::string entry_key = detail::concat(array.name, ".", i);
       const toml::node& entry = *entries->get(i);
       if (!entry.is_table()) throw_wrong_kind(entry, entry_key, "a table");
-      check_table(*entry.as_table(), fixed_keys_, "", entry_key + ".");
+      check_table(*entry.as_table(), array.entry_keys, "", entry_key + ".");
     }
   }
 
@@ -131,7 +150,7 @@ class KeyChecker {
 
   bool is_top_level_name(std::string_view name) const {
     const std::vector<std::string> names = names_in_table(scene_keys_, "");
-    return name == kFixedArrayKey || std::find(names.begin(), names.end(), name) != names.end();
+    return find_array(name) || std::find(names.begin(), names.end(), name) != names.end();
   }
 
   // Names the key with the full dotted path and, when there is one, a close
@@ -145,7 +164,9 @@ class KeyChecker {
     std::string message = detail::concat(doc_.where(node), ": unknown key '", shown_prefix,
                                          join_key(table_key, name), "'");
     std::vector<std::string> candidates = names_in_table(keys, table_key);
-    if (at_scene_root) candidates.emplace_back(kFixedArrayKey);
+    if (at_scene_root) {
+      for (const ArraySchema& array : arrays_) candidates.push_back(array.name);
+    }
     if (const std::optional<std::string> close = closest_name(name, candidates)) {
       message += " (did you mean '" + shown_prefix + join_key(table_key, *close) + "'?)";
     } else if (!at_scene_root && is_top_level_name(name)) {
@@ -157,7 +178,7 @@ class KeyChecker {
 
   const SceneDocument& doc_;
   const std::vector<std::string> scene_keys_ = scene_keys();
-  const std::vector<std::string> fixed_keys_ = fixed_keys();
+  const std::vector<ArraySchema> arrays_ = array_schemas();
 };
 
 }  // namespace

@@ -61,6 +61,13 @@ void read_value(const SceneDocument& doc, const toml::node& node, const std::str
 }
 
 void read_value(const SceneDocument& doc, const toml::node& node, const std::string& key,
+                bool& field) {
+  const auto* flag = node.as_boolean();
+  if (!flag) throw_wrong_value(doc, node, key, "a boolean (true or false)");
+  field = flag->get();
+}
+
+void read_value(const SceneDocument& doc, const toml::node& node, const std::string& key,
                 std::array<double, 3>& field) {
   const toml::array* array = node.as_array();
   if (!array || array->size() != 3) throw_wrong_value(doc, node, key, "an array of 3 numbers");
@@ -89,16 +96,17 @@ SceneFields read_scene_fields(const SceneDocument& doc) {
     if (const toml::node* node = doc.find(key)) read_value(doc, *node, std::string(key), field);
   });
 
-  const toml::array* entries = doc.root.get_as<toml::array>(kFixedArrayKey);
-  for (std::size_t i = 0; entries && i < entries->size(); ++i) {
-    const std::string prefix = detail::concat(kFixedArrayKey, ".", i, ".");
-    FixedRegion region;
-    visit_fixed_keys(region, [&](std::string_view key, auto& field) {
-      const std::string full_key = prefix + std::string(key);
-      if (const toml::node* node = doc.find(full_key)) read_value(doc, *node, full_key, field);
-    });
-    fields.scene.fixed.push_back(region);
-  }
+  // One entry per table of the array, each starting from the struct defaults.
+  visit_scene_arrays(fields.scene, [&doc](std::string_view name, auto& entries) {
+    const toml::array* tables = doc.root.get_as<toml::array>(name);
+    for (std::size_t i = 0; tables && i < tables->size(); ++i) {
+      const std::string prefix = detail::concat(name, ".", i, ".");
+      visit_entry_keys(entries.emplace_back(), [&](std::string_view key, auto& field) {
+        const std::string full_key = prefix + std::string(key);
+        if (const toml::node* node = doc.find(full_key)) read_value(doc, *node, full_key, field);
+      });
+    }
+  });
   return fields;
 }
 

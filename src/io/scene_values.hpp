@@ -18,6 +18,9 @@ void read_value(const SceneDocument& doc, const toml::node& node, const std::str
                 double& field);
 void read_value(const SceneDocument& doc, const toml::node& node, const std::string& key,
                 std::string& field);
+// true or false only: 1 and "yes" are not booleans.
+void read_value(const SceneDocument& doc, const toml::node& node, const std::string& key,
+                bool& field);
 // Exactly 3 finite numbers.
 void read_value(const SceneDocument& doc, const toml::node& node, const std::string& key,
                 std::array<double, 3>& field);

@@ -1,6 +1,7 @@
 #include "solver/local_problem.hpp"
 
 #include <cmath>
+#include <variant>
 
 #include "common/error.hpp"
 #include "kernels/cpu/element_loops.hpp"
@@ -25,8 +26,8 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
     : mesh_(mesh),
       halo_(halo),
       reduction_(reduction),
-      model_(NeoHookean<Real>::from_young_poisson(static_cast<Real>(scene.material.young),
-                                                  static_cast<Real>(scene.material.poisson))),
+      model_(make_elastic_model<Real>(scene.material)),
+      converting_(scene.material.conversion.enabled),
       dt_(static_cast<Real>(scene.time.dt)),
       fixed_regions_(scene.fixed),
       load_regions_(scene.loads) {
@@ -38,6 +39,14 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   for (int i = 0; i < 3; ++i) terms_.gravity[i] = static_cast<Real>(scene.gravity[i]);
 
   const index_t nt = mesh.num_tets(), nv = mesh.num_vertices();
+  if (converting_) {
+    const ConversionSpec& c = scene.material.conversion;
+    conversion_ = {static_cast<Real>(c.lambda_minus), static_cast<Real>(c.lambda_plus),
+                   static_cast<Real>(c.decay),
+                   Arap<Real>::from_young_poisson(static_cast<Real>(scene.material.young),
+                                                  static_cast<Real>(scene.material.poisson))};
+    interpolant_.assign(nt, Real(0));
+  }
   rest_.resize(nt);
   // Lumped masses: each tet gives rho V / 4 to its corners; shared vertices
   // are completed through the halo like any other partial sum.
@@ -107,6 +116,22 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
 }
 
 template <class Real>
+void LocalProblem<Real>::element_pass(const Real* q, index_t begin, index_t end,
+                                      Real* diag_corners) {
+  std::visit(
+      [&](const auto& model) {
+        if (converting_)
+          cpu::converted_element_gradients(model, conversion_, interpolant_.data(), q,
+                                           mesh_.tets.data(), rest_.data(), begin, end,
+                                           corner_grad_.data(), diag_corners);
+        else
+          cpu::element_gradients(model, q, mesh_.tets.data(), rest_.data(), begin, end,
+                                 corner_grad_.data(), diag_corners);
+      },
+      model_);
+}
+
+template <class Real>
 void LocalProblem<Real>::begin_step(double t) {
   const index_t nv = mesh_.num_vertices();
   std::fill(external_force_.begin(), external_force_.end(), Real(0));
@@ -168,7 +193,6 @@ typename LocalProblem<Real>::Assembled LocalProblem<Real>::elastic_gradient(cons
                                                                             bool with_diagonal) {
   const index_t nb = mesh_.num_boundary_tets, nt = mesh_.num_tets();
   const index_t ni = mesh_.num_interior, nv = mesh_.num_vertices();
-  const index_t* tets = mesh_.tets.data();
   const index_t* offsets = mesh_.corner_offsets.data();
   const index_t* corners = mesh_.vertex_corners.data();
   Real* diag_corners = with_diagonal ? corner_diag_.data() : nullptr;
@@ -177,12 +201,12 @@ typename LocalProblem<Real>::Assembled LocalProblem<Real>::elastic_gradient(cons
 
   // Boundary tets, then their (shared) vertices, then the exchange in flight
   // while the interior is computed.
-  cpu::element_gradients(model_, q, tets, rest_.data(), 0, nb, corner_grad_.data(), diag_corners);
+  element_pass(q, 0, nb, diag_corners);
   cpu::gather_corners(offsets, corners, ni, nv, corner_grad_.data(), partial, width);
   if (with_diagonal)
     cpu::gather_corners(offsets, corners, ni, nv, corner_diag_.data(), partial + 3, width);
   halo_.begin(partial, width);
-  cpu::element_gradients(model_, q, tets, rest_.data(), nb, nt, corner_grad_.data(), diag_corners);
+  element_pass(q, nb, nt, diag_corners);
   cpu::gather_corners(offsets, corners, 0, ni, corner_grad_.data(), partial, width);
   if (with_diagonal)
     cpu::gather_corners(offsets, corners, 0, ni, corner_diag_.data(), partial + 3, width);
@@ -193,8 +217,15 @@ typename LocalProblem<Real>::Assembled LocalProblem<Real>::elastic_gradient(cons
 
 template <class Real>
 Energy LocalProblem<Real>::local_energy(const Real* q, const Real* y, const Real* qt) const {
-  const cpu::EnergySum elastic =
-      cpu::element_energy_sum(model_, q, mesh_.tets.data(), rest_.data(), 0, mesh_.num_tets());
+  const index_t nt = mesh_.num_tets();
+  const cpu::EnergySum elastic = std::visit(
+      [&](const auto& model) {
+        return converting_
+                   ? cpu::converted_element_energy_sum(model, conversion_, interpolant_.data(), q,
+                                                       mesh_.tets.data(), rest_.data(), 0, nt)
+                   : cpu::element_energy_sum(model, q, mesh_.tets.data(), rest_.data(), 0, nt);
+      },
+      model_);
   const index_t owned = mesh_.num_owned;
   double value = 0, magnitude = 0;
 #pragma omp parallel for schedule(static) reduction(+ : value, magnitude)

@@ -12,10 +12,11 @@
 #include "comm/halo.hpp"
 #include "comm/reduction.hpp"
 #include "io/scene.hpp"
-#include "kernels/neo_hookean.hpp"
+#include "kernels/conversion.hpp"
 #include "kernels/tet.hpp"
 #include "kernels/vertex.hpp"
 #include "partition/partition.hpp"
+#include "solver/material.hpp"
 
 namespace descent {
 
@@ -69,6 +70,9 @@ class LocalProblem {
   // vertices (each vertex counted by one rank). No communication.
   Energy local_energy(const Real* q, const Real* y, const Real* qt) const;
 
+  // Conversion interpolants per local tet (empty without conversion).
+  const std::vector<Real>& interpolants() const { return interpolant_; }
+
   // Sums of `count` (1 or 2) local energies over all ranks: the one collective.
   EnergySums global_energies(const Energy* local, int count) {
     return reduction_.sum(local, count);
@@ -78,7 +82,14 @@ class LocalProblem {
   const LocalMesh& mesh_;
   Halo<Real>& halo_;
   EnergyReduction& reduction_;
-  NeoHookean<Real> model_;
+  // Runs the element pass (gradient, and the diagonal into diag_corners when
+  // not null) over tets [begin, end) with the scene's model and conversion.
+  void element_pass(const Real* q, index_t begin, index_t end, Real* diag_corners);
+
+  ElasticModel<Real> model_;
+  bool converting_ = false;
+  Conversion<Real> conversion_{};
+  std::vector<Real> interpolant_;  // conversion l per tet (Eq. 17), when converting
   Real dt_;
   VertexTerms<Real> terms_;
   std::vector<FixedRegion> fixed_regions_;

@@ -95,10 +95,18 @@ TEST(Scene, EveryOtherKeyDefaultsToTheStructDefaults) {
   EXPECT_EQ(scene.material.young, defaults.material.young);
   EXPECT_EQ(scene.material.poisson, defaults.material.poisson);
   EXPECT_EQ(scene.material.density, defaults.material.density);
+  EXPECT_EQ(scene.material.c2, defaults.material.c2);
+  EXPECT_EQ(scene.material.c3, defaults.material.c3);
+  EXPECT_EQ(scene.material.conversion.enabled, defaults.material.conversion.enabled);
+  EXPECT_EQ(scene.material.conversion.lambda_minus, defaults.material.conversion.lambda_minus);
+  EXPECT_EQ(scene.material.conversion.lambda_plus, defaults.material.conversion.lambda_plus);
+  EXPECT_EQ(scene.material.conversion.decay, defaults.material.conversion.decay);
   EXPECT_EQ(scene.gravity, defaults.gravity);
   EXPECT_TRUE(scene.fixed.empty());
+  EXPECT_TRUE(scene.loads.empty());
   EXPECT_EQ(scene.time.dt, defaults.time.dt);
   EXPECT_EQ(scene.time.frames, defaults.time.frames);
+  EXPECT_EQ(scene.time.quasistatic, defaults.time.quasistatic);
   EXPECT_EQ(scene.solver.method, defaults.solver.method);
   EXPECT_EQ(scene.solver.iterations, defaults.solver.iterations);
   EXPECT_EQ(scene.solver.rho, defaults.solver.rho);
@@ -205,6 +213,135 @@ every = 2
   EXPECT_EQ(scene.output.every, 2);
 }
 
+TEST(Scene, EveryModelNameIsAccepted) {
+  for (const char* model : {"stvk", "neo_hookean", "mooney_rivlin", "fung", "corotated", "arap"}) {
+    SCOPED_TRACE(model);
+    const std::string text = std::string(kBoxScene) + "[material]\nmodel = \"" + model + "\"\n";
+    EXPECT_EQ(parse(text).material.model, model);
+  }
+}
+
+TEST(Scene, ReadsEveryMaterialKeyOfFung) {
+  const Scene scene = parse(std::string(kBoxScene) + R"(
+[material]
+model = "fung"
+c2 = 2000
+c3 = 1.5
+[material.conversion]
+enabled = true
+lambda_minus = 0
+lambda_plus = 0.2
+decay = 0.1
+)");
+  const MaterialSpec& material = scene.material;
+  EXPECT_EQ(material.model, "fung");
+  EXPECT_EQ(material.c2, 2000.0);
+  EXPECT_EQ(material.c3, 1.5);
+  EXPECT_TRUE(material.conversion.enabled);
+  EXPECT_EQ(material.conversion.lambda_minus, 0.0);
+  EXPECT_EQ(material.conversion.lambda_plus, 0.2);
+  EXPECT_EQ(material.conversion.decay, 0.1);
+}
+
+TEST(Scene, MooneyRivlinReadsC2) {
+  const Scene scene =
+      parse(std::string(kBoxScene) + "[material]\nmodel = \"mooney_rivlin\"\nc2 = 5e4\n");
+  EXPECT_EQ(scene.material.c2, 5e4);
+}
+
+// c2 and c3 set to nonzero for a model that ignores them mean a forgotten
+// material.model: an error that names the key and the models using it.
+TEST(Scene, ParameterOfAnotherModelIsRejected) {
+  expect_has(error_of(std::string(kBoxScene) + "[material]\nc2 = 100\n"),
+             "scene.toml:4: material.c2 is used only by \"mooney_rivlin\" and \"fung\", but "
+             "material.model is \"neo_hookean\" (set material.c2 to 0 or change the model)");
+  expect_has(
+      error_of(std::string(kBoxScene) + "[material]\nmodel = \"mooney_rivlin\"\nc2 = 1\nc3 = 2\n"),
+      "scene.toml:6: material.c3 is used only by \"fung\", but material.model is "
+      "\"mooney_rivlin\"");
+  // Zero, the default, is accepted with any model.
+  EXPECT_EQ(parse(std::string(kBoxScene) + "[material]\nmodel = \"stvk\"\nc2 = 0\nc3 = 0\n")
+                .material.model,
+            "stvk");
+}
+
+TEST(Scene, ReadsQuasistatic) {
+  EXPECT_TRUE(parse(std::string(kBoxScene) + "[time]\nquasistatic = true\n").time.quasistatic);
+  EXPECT_FALSE(parse(std::string(kBoxScene) + "[time]\nquasistatic = false\n").time.quasistatic);
+}
+
+TEST(Scene, ReadsAnInlineFixedMotion) {
+  const Scene scene = parse(std::string(kBoxScene) + R"(
+[[fixed]]
+box_max = [1, 1, 1]
+motion = { kind = "translate", velocity = [0, 0.1, 0], until = 2 }
+)");
+  ASSERT_EQ(scene.fixed.size(), 1u);
+  const Motion& motion = scene.fixed[0].motion;
+  const Motion defaults;
+  EXPECT_EQ(motion.kind, "translate");
+  EXPECT_EQ(motion.velocity, (Vec3{0, 0.1, 0}));
+  EXPECT_EQ(motion.until, 2.0);
+  EXPECT_EQ(motion.axis, defaults.axis);
+  EXPECT_EQ(motion.centre, defaults.centre);
+  EXPECT_EQ(motion.angular_velocity, defaults.angular_velocity);
+}
+
+TEST(Scene, ReadsEveryKeyOfAFixedMotionTable) {
+  const Scene scene = parse(std::string(kBoxScene) + R"(
+[[fixed]]
+box_min = [0, 0, 0]
+box_max = [1, 1, 1]
+axes = "xz"
+[fixed.motion]
+kind = "rotate"
+velocity = [1, 2, 3]
+axis = [0, 0, 1]
+centre = [0.5, 0.5, 0]
+angular_velocity = 3.14
+until = 0
+
+[[fixed]]
+box_max = [2, 2, 2]
+)");
+  ASSERT_EQ(scene.fixed.size(), 2u);
+  EXPECT_EQ(scene.fixed[0].axes, "xz");
+  const Motion& motion = scene.fixed[0].motion;
+  EXPECT_EQ(motion.kind, "rotate");
+  EXPECT_EQ(motion.velocity, (Vec3{1, 2, 3}));
+  EXPECT_EQ(motion.axis, (Vec3{0, 0, 1}));
+  EXPECT_EQ(motion.centre, (Vec3{0.5, 0.5, 0}));
+  EXPECT_EQ(motion.angular_velocity, 3.14);
+  EXPECT_EQ(motion.until, 0.0);
+  // The second region has no motion table: it is held at rest.
+  EXPECT_EQ(scene.fixed[1].motion.kind, "none");
+  EXPECT_EQ(scene.fixed[1].motion.until, Motion{}.until);
+}
+
+TEST(Scene, ReadsEveryKeyOfTheLoads) {
+  const Scene scene = parse(std::string(kBoxScene) + R"(
+[[load]]
+box_min = [0, 0.9, 0]
+box_max = [1, 1, 1]
+force = [0, 100, 0]
+ramp = 0.5
+
+[[load]]
+force = [-1, 0, 2.5]
+)");
+  ASSERT_EQ(scene.loads.size(), 2u);
+  EXPECT_EQ(scene.loads[0].box_min, (Vec3{0, 0.9, 0}));
+  EXPECT_EQ(scene.loads[0].box_max, (Vec3{1, 1, 1}));
+  EXPECT_EQ(scene.loads[0].force, (Vec3{0, 100, 0}));
+  EXPECT_EQ(scene.loads[0].ramp, 0.5);
+  const LoadRegion defaults;
+  EXPECT_EQ(scene.loads[1].box_min, defaults.box_min);
+  EXPECT_EQ(scene.loads[1].box_max, defaults.box_max);
+  EXPECT_EQ(scene.loads[1].force, (Vec3{-1, 0, 2.5}));
+  EXPECT_EQ(scene.loads[1].ramp, defaults.ramp);
+  EXPECT_TRUE(scene.fixed.empty());
+}
+
 TEST(Scene, ReadsEveryKeyOfABoxScene) {
   const Scene scene = parse(R"(
 [mesh]
@@ -269,6 +406,40 @@ TEST(Scene, UnknownKeyInsideFixedNamesTheEntry) {
   const std::string message =
       error_of(std::string(kBoxScene) + "[[fixed]]\naxes = \"y\"\n[[fixed]]\naxis = \"x\"\n");
   expect_has(message, "scene.toml:6: unknown key 'fixed.1.axis' (did you mean 'fixed.1.axes'?)");
+}
+
+TEST(Scene, UnknownKeyInsideMotionSuggestsTheCloseOne) {
+  const std::string table =
+      std::string(kBoxScene) + "[[fixed]]\naxes = \"y\"\n[fixed.motion]\nknd = \"rotate\"\n";
+  expect_has(
+      error_of(table),
+      "scene.toml:6: unknown key 'fixed.0.motion.knd' (did you mean 'fixed.0.motion.kind'?)");
+  const std::string inline_table =
+      std::string(kBoxScene) +
+      "[[fixed]]\n[[fixed]]\nmotion = { kind = \"rotate\", axsi = [1, 0, 0] }\n";
+  expect_has(
+      error_of(inline_table),
+      "scene.toml:5: unknown key 'fixed.1.motion.axsi' (did you mean 'fixed.1.motion.axis'?)");
+  expect_has(error_of(std::string(kBoxScene) + "[[fixed]]\n[fixed.motoin]\nkind = \"rotate\"\n"),
+             "unknown key 'fixed.0.motoin' (did you mean 'fixed.0.motion'?)");
+}
+
+TEST(Scene, UnknownKeyInsideLoadNamesTheEntry) {
+  expect_has(error_of(std::string(kBoxScene) + "[[load]]\n[[load]]\nforse = [0, 1, 0]\n"),
+             "scene.toml:5: unknown key 'load.1.forse' (did you mean 'load.1.force'?)");
+  // Each array has its own keys: axes belongs to [[fixed]] only.
+  expect_has(error_of(std::string(kBoxScene) + "[[load]]\naxes = \"y\"\n"),
+             "scene.toml:4: unknown key 'load.0.axes'");
+  expect_has(error_of(std::string(kBoxScene) + "[[loads]]\nforce = [0, 1, 0]\n"),
+             "unknown key 'loads' (did you mean 'load'?)");
+}
+
+TEST(Scene, UnknownKeyInsideMaterialConversion) {
+  expect_has(error_of(std::string(kBoxScene) + "[material.conversion]\nlambda_mins = 0.1\n"),
+             "scene.toml:4: unknown key 'material.conversion.lambda_mins' (did you mean "
+             "'material.conversion.lambda_minus'?)");
+  expect_has(error_of(std::string(kBoxScene) + "[material]\nc4 = 1\n"),
+             "unknown key 'material.c4' (did you mean 'material.c2'?)");
 }
 
 TEST(Scene, UnknownKeyInsideMeshHelix) {
@@ -339,6 +510,39 @@ TEST(Scene, TableKeyHoldingAValue) {
              "fixed.0 must be a table, got integer 1");
 }
 
+TEST(Scene, ArraysAndNestedTablesHoldingAValue) {
+  expect_has(error_of("load = 3\n" + std::string(kBoxScene)),
+             "scene.toml:1: load must be an array of tables ([[load]]), got integer 3");
+  expect_has(error_of("load = [[0, 1, 0]]\n" + std::string(kBoxScene)),
+             "load.0 must be a table, got array [0, 1, 0]");
+  expect_has(error_of(std::string(kBoxScene) + "[[fixed]]\nmotion = \"rotate\"\n"),
+             "scene.toml:4: fixed.0.motion must be a table, got string \"rotate\"");
+}
+
+TEST(Scene, BooleansAreNotNumbersOrStrings) {
+  expect_has(error_of(std::string(kBoxScene) + "[material.conversion]\nenabled = \"yes\"\n"),
+             "scene.toml:4: material.conversion.enabled must be a boolean (true or false), got "
+             "string \"yes\"");
+  expect_has(error_of(std::string(kBoxScene) + "[time]\nquasistatic = 1\n"),
+             "scene.toml:4: time.quasistatic must be a boolean (true or false), got integer 1");
+  expect_has(error_of(std::string(kBoxScene) + "[time]\nquasistatic = \"true\"\n"),
+             "time.quasistatic must be a boolean (true or false), got string \"true\"");
+  expect_has(error_of(std::string(kBoxScene) + "[time]\nframes = true\n"),
+             "time.frames must be an integer, got boolean true");
+}
+
+TEST(Scene, WrongTypesInsideArrayEntriesNameTheEntry) {
+  expect_has(error_of(std::string(kBoxScene) + "[[load]]\nforce = [0, 1]\n"),
+             "scene.toml:4: load.0.force must be an array of 3 numbers, got array [0, 1]");
+  expect_has(error_of(std::string(kBoxScene) + "[[load]]\nramp = \"slow\"\n"),
+             "load.0.ramp must be a number, got string \"slow\"");
+  expect_has(error_of(std::string(kBoxScene) + "[[fixed]]\n[fixed.motion]\nkind = 1\n"),
+             "scene.toml:5: fixed.0.motion.kind must be a string, got integer 1");
+  expect_has(
+      error_of(std::string(kBoxScene) + "[[fixed]]\nmotion = { angular_velocity = \"fast\" }\n"),
+      "fixed.0.motion.angular_velocity must be a number, got string \"fast\"");
+}
+
 TEST(Scene, NumbersMustBeFinite) {
   expect_has(error_of(std::string(kBoxScene) + "[solver]\nrho = nan\n"),
              "scene.toml:4: solver.rho must be a finite number, got float nan");
@@ -374,6 +578,19 @@ TEST(Scene, RangesNameTheKeyAndTheLine) {
       {"[material]\npoisson = 0.5", "material.poisson must be in (-1, 0.5), got 0.5"},
       {"[material]\npoisson = -1", "material.poisson must be in (-1, 0.5), got -1"},
       {"[material]\ndensity = -1000", "material.density must be > 0, got -1000"},
+      {"[material]\nmodel = \"mooney_rivlin\"\nc2 = -1", "material.c2 must be >= 0, got -1"},
+      {"[material]\nmodel = \"fung\"\nc3 = -0.5", "material.c3 must be >= 0, got -0.5"},
+      {"[material.conversion]\nlambda_minus = -0.1",
+       "scene.toml:4: material.conversion.lambda_minus must be >= 0, got -0.1"},
+      {"[material.conversion]\nlambda_minus = 0.2",
+       "scene.toml:4: material.conversion.lambda_minus (0.2) must be less than "
+       "material.conversion.lambda_plus (0.15)"},
+      {"[material.conversion]\nlambda_plus = 0.05",
+       "scene.toml:4: material.conversion.lambda_minus (0.05) must be less than "
+       "material.conversion.lambda_plus (0.05)"},
+      {"[material.conversion]\ndecay = -1", "material.conversion.decay must be >= 0, got -1"},
+      {"[material.conversion]\ndecay = inf",
+       "material.conversion.decay must be a finite number, got float inf"},
       {"[output]\nevery = 0", "output.every must be >= 1, got 0"},
       {"[output]\ndir = \"\"", "output.dir must not be empty"},
       {"[mesh.box]\ncells = [4, 0, 4]", "mesh.box.cells must be at least 1 along each axis, got 0"},
@@ -383,6 +600,14 @@ TEST(Scene, RangesNameTheKeyAndTheLine) {
       {"[[fixed]]\naxes = \"\"", "fixed.0.axes must name each of x, y, z at most once"},
       {"[[fixed]]\naxes = \"xx\"", "fixed.0.axes must name each of x, y, z at most once"},
       {"[[fixed]]\naxes = \"xw\"", "got \"xw\""},
+      {"[[fixed]]\n[fixed.motion]\nuntil = -1",
+       "scene.toml:5: fixed.0.motion.until must be >= 0, got -1"},
+      {"[[fixed]]\nmotion = { kind = \"rotate\", axis = [0, 0, 0] }",
+       "scene.toml:4: fixed.0.motion.axis must not be [0, 0, 0] when fixed.0.motion.kind is "
+       "\"rotate\""},
+      {"[[load]]\nbox_min = [0, 0, 3]\nbox_max = [1, 1, 1]",
+       "scene.toml:4: load.0.box_min must not exceed load.0.box_max, but its z is 3 > 1"},
+      {"[[load]]\n[[load]]\nramp = -0.5", "scene.toml:5: load.1.ramp must be >= 0, got -0.5"},
   };
   for (const RangeCase& c : cases) {
     SCOPED_TRACE(c.entry);
@@ -395,8 +620,12 @@ TEST(Scene, RangesNameTheKeyAndTheLine) {
 }
 
 TEST(Scene, ChoicesListTheValidNames) {
-  expect_has(error_of(std::string(kBoxScene) + "[material]\nmodel = \"stvk\"\n"),
-             "scene.toml:4: material.model must be one of \"neo_hookean\", got \"stvk\"");
+  expect_has(error_of(std::string(kBoxScene) + "[material]\nmodel = \"hookean\"\n"),
+             "scene.toml:4: material.model must be one of \"stvk\", \"neo_hookean\", "
+             "\"mooney_rivlin\", \"fung\", \"corotated\", \"arap\", got \"hookean\"");
+  expect_has(error_of(std::string(kBoxScene) + "[[fixed]]\nmotion = { kind = \"spin\" }\n"),
+             "scene.toml:4: fixed.0.motion.kind must be one of \"none\", \"translate\", "
+             "\"rotate\", got \"spin\"");
   expect_has(error_of(std::string(kBoxScene) + "[solver]\nmethod = \"jacobi\"\n"),
              "solver.method must be one of \"chebyshev\", got \"jacobi\"");
   expect_has(error_of(std::string(kBoxScene) + "[solver]\ninit = \"guess\"\n"),
@@ -545,6 +774,86 @@ TEST(SceneOverrides, FixedEntryWithoutAnyInTheFile) {
 TEST(SceneOverrides, FixedIndexPastTheEnd) {
   const std::string message = error_of(kBoxScene, {"fixed.2.axes=y"});
   expect_has(message, "--set fixed.2.axes=y: fixed has 0 entries");
+}
+
+TEST(SceneOverrides, LoadEntryWithoutAnyInTheFile) {
+  const Scene scene = parse(kBoxScene, {"load.0.force=[0,0,5]"});
+  ASSERT_EQ(scene.loads.size(), 1u);
+  EXPECT_EQ(scene.loads[0].force, (Vec3{0, 0, 5}));
+  EXPECT_EQ(scene.loads[0].ramp, LoadRegion{}.ramp);
+}
+
+TEST(SceneOverrides, LoadEntriesByIndex) {
+  const std::string text = std::string(kBoxScene) + "[[load]]\nforce = [0, 1, 0]\nramp = 1\n";
+  const Scene scene = parse(text, {"load.0.force=[0,100,0]", "load.1.ramp=2"});
+  ASSERT_EQ(scene.loads.size(), 2u);
+  EXPECT_EQ(scene.loads[0].force, (Vec3{0, 100, 0}));
+  EXPECT_EQ(scene.loads[0].ramp, 1.0);
+  EXPECT_EQ(scene.loads[1].ramp, 2.0);  // index == size appends
+  EXPECT_EQ(scene.loads[1].force, LoadRegion{}.force);
+  expect_has(error_of(text, {"load.3.ramp=1"}),
+             "--set load.3.ramp=1: load has 1 entries; load.3 is past its end (load.1 appends "
+             "one)");
+}
+
+TEST(SceneOverrides, FixedMotionKeys) {
+  const std::string text = std::string(kBoxScene) + "[[fixed]]\nbox_max = [1, 1, 1]\n";
+  const Scene scene = parse(text, {"fixed.0.motion.kind=\"rotate\"", "fixed.0.motion.axis=[1,0,0]",
+                                   "fixed.0.motion.angular_velocity=2"});
+  ASSERT_EQ(scene.fixed.size(), 1u);
+  EXPECT_EQ(scene.fixed[0].box_max, (Vec3{1, 1, 1}));
+  EXPECT_EQ(scene.fixed[0].motion.kind, "rotate");
+  EXPECT_EQ(scene.fixed[0].motion.axis, (Vec3{1, 0, 0}));
+  EXPECT_EQ(scene.fixed[0].motion.angular_velocity, 2.0);
+  // Into an inline motion table of the file, keeping its other keys.
+  const std::string inline_motion =
+      std::string(kBoxScene) +
+      "[[fixed]]\nmotion = { kind = \"translate\", velocity = [0, 1, 0] }\n";
+  const Scene changed = parse(inline_motion, {"fixed.0.motion.until=3"});
+  EXPECT_EQ(changed.fixed[0].motion.kind, "translate");
+  EXPECT_EQ(changed.fixed[0].motion.velocity, (Vec3{0, 1, 0}));
+  EXPECT_EQ(changed.fixed[0].motion.until, 3.0);
+  // A whole motion as an inline table, appending a region.
+  const Scene appended = parse(kBoxScene, {"fixed.0.motion={kind=\"translate\",until=1}"});
+  ASSERT_EQ(appended.fixed.size(), 1u);
+  EXPECT_EQ(appended.fixed[0].motion.kind, "translate");
+  EXPECT_EQ(appended.fixed[0].motion.until, 1.0);
+}
+
+TEST(SceneOverrides, MaterialKeys) {
+  const Scene scene =
+      parse(kBoxScene, {"material.model=mooney_rivlin", "material.c2=3e4",
+                        "material.conversion.enabled=true", "material.conversion.lambda_plus=0.3"});
+  EXPECT_EQ(scene.material.model, "mooney_rivlin");
+  EXPECT_EQ(scene.material.c2, 3e4);
+  EXPECT_TRUE(scene.material.conversion.enabled);
+  EXPECT_EQ(scene.material.conversion.lambda_plus, 0.3);
+  expect_has(error_of(std::string(kBoxScene) + "[material]\nmodel = \"fung\"\nc3 = 2\n",
+                      {"material.model=stvk"}),
+             "scene.toml:5: material.c3 is used only by \"fung\", but material.model is \"stvk\"");
+  expect_has(error_of(kBoxScene, {"material.conversion.enabled=1"}),
+             "--set material.conversion.enabled=1: material.conversion.enabled must be a boolean");
+}
+
+TEST(SceneOverrides, NewKeysAreCheckedLikeFileEntries) {
+  EXPECT_EQ(parse(kBoxScene, {"material.model=\"fung\""}).material.model, "fung");
+  EXPECT_TRUE(parse(kBoxScene, {"time.quasistatic=true"}).time.quasistatic);
+  expect_has(error_of(kBoxScene, {"material.model=\"hookean\""}),
+             "--set material.model=\"hookean\": material.model must be one of \"stvk\", "
+             "\"neo_hookean\", \"mooney_rivlin\", \"fung\", \"corotated\", \"arap\"");
+  expect_has(error_of(kBoxScene, {"time.quasistatic=yes"}),
+             "--set time.quasistatic=yes: time.quasistatic must be a boolean (true or false), got "
+             "string \"yes\"");
+  expect_has(error_of(kBoxScene, {"fixed.0.motion.knd=rotate"}),
+             "--set fixed.0.motion.knd=rotate: unknown key 'fixed.0.motion.knd' (did you mean "
+             "'fixed.0.motion.kind'?)");
+  expect_has(error_of(kBoxScene, {"fixed.0.motion.kind=rotate", "fixed.0.motion.axis=[0,0,0]"}),
+             "--set fixed.0.motion.axis=[0,0,0]: fixed.0.motion.axis must not be [0, 0, 0]");
+  expect_has(error_of(kBoxScene, {"load.0.ramp=-1"}),
+             "--set load.0.ramp=-1: load.0.ramp must be >= 0, got -1");
+  expect_has(error_of(kBoxScene, {"load.0.forse=[0,0,5]"}),
+             "--set load.0.forse=[0,0,5]: unknown key 'load.0.forse' (did you mean "
+             "'load.0.force'?)");
 }
 
 TEST(SceneOverrides, UnknownKeySaysItCameFromSet) {

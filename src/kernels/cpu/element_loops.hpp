@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "common/mesh.hpp"
+#include "kernels/conversion.hpp"
 #include "kernels/element.hpp"
 
 namespace descent::cpu {
@@ -68,6 +69,39 @@ EnergySum element_energy_sum(const Model& model, const Real* x, const index_t* t
   for (index_t t = begin; t < end; ++t) {
     const double e =
         element_energy(model, rest[t], load_corners(x, tets + 4 * static_cast<std::int64_t>(t)));
+    value += e;
+    magnitude += e < 0 ? -e : e;
+  }
+  return {value, magnitude};
+}
+
+// element_gradients with invertible model conversion: `interpolant` holds
+// one l per tet, updated in place (Eq. 17) before the hybrid gradient.
+template <class Real, class Model>
+void converted_element_gradients(const Model& model, const Conversion<Real>& conv,
+                                 Real* interpolant, const Real* x, const index_t* tets,
+                                 const TetRest<Real>* rest, index_t begin, index_t end,
+                                 Real* grad_out, Real* diag_out) {
+#pragma omp parallel for schedule(static)
+  for (index_t t = begin; t < end; ++t) {
+    const TetCorners<Real> c = load_corners(x, tets + 4 * static_cast<std::int64_t>(t));
+    Vec3<Real> g[4], d[4];
+    converted_gradient(model, conv, interpolant[t], rest[t], c, g, diag_out ? d : nullptr);
+    store_corners(g, grad_out + 12 * static_cast<std::int64_t>(t));
+    if (diag_out) store_corners(d, diag_out + 12 * static_cast<std::int64_t>(t));
+  }
+}
+
+template <class Real, class Model>
+EnergySum converted_element_energy_sum(const Model& model, const Conversion<Real>& conv,
+                                       const Real* interpolant, const Real* x,
+                                       const index_t* tets, const TetRest<Real>* rest,
+                                       index_t begin, index_t end) {
+  double value = 0, magnitude = 0;
+#pragma omp parallel for schedule(static) reduction(+ : value, magnitude)
+  for (index_t t = begin; t < end; ++t) {
+    const double e = converted_energy(model, conv, interpolant[t], rest[t],
+                                      load_corners(x, tets + 4 * static_cast<std::int64_t>(t)));
     value += e;
     magnitude += e < 0 ? -e : e;
   }

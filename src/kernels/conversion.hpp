@@ -1,0 +1,77 @@
+#pragma once
+// Invertible model conversion (paper 1, Eqs. 17-19): an element whose
+// smallest signed singular value falls toward lambda_minus is blended toward
+// the arap energy, which is defined and well behaved for inverted elements.
+// Per element an interpolant l in [0, 1] (state, carried across iterations
+// and steps, starting at 0):
+//   l <- min(1, max(0, l - L, (lambda_plus - sigma_min) / (lambda_plus - lambda_minus)))
+//   Psi_hybrid = (1 - l) Psi + l Psi_arap
+//   preconditioner diag((1 - l) H + l A^T A)
+// where A^T A is the constant matrix of projective dynamics: for the arap
+// energy mu |F - R|^2 its diagonal is 2 mu V |b_a|^2 on every axis of corner a.
+#include "kernels/arap.hpp"
+#include "kernels/element.hpp"
+#include "kernels/svd3.hpp"
+
+namespace descent {
+
+template <class Real>
+struct Conversion {
+  Real lambda_minus;
+  Real lambda_plus;
+  Real decay;  // L
+  Arap<Real> arap;
+
+  // Eq. 17.
+  DESCENT_HOST_DEVICE Real next_interpolant(Real previous, const Mat3<Real>& f) const {
+    const Real sigma_min = svd3(f).sigma[2];
+    Real l = (lambda_plus - sigma_min) / (lambda_plus - lambda_minus);
+    if (previous - decay > l) l = previous - decay;
+    return l < Real(0) ? Real(0) : (l > Real(1) ? Real(1) : l);
+  }
+};
+
+// Element energy V ((1 - l) Psi + l Psi_arap).
+template <class Real, class Model>
+DESCENT_HOST_DEVICE inline Real converted_energy(const Model& model, const Conversion<Real>& conv,
+                                                 Real l, const TetRest<Real>& rest,
+                                                 const TetCorners<Real>& c) {
+  const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);
+  const Real psi = l < Real(1) ? model.energy(f) : Real(0);
+  const Real psi_arap = l > Real(0) ? conv.arap.energy(f) : Real(0);
+  return rest.volume * ((Real(1) - l) * psi + l * psi_arap);
+}
+
+// Updates the element's interpolant `l` from its current F (Eq. 17), then
+// the hybrid gradient per corner and, when `diag` is not null, the blended
+// preconditioner diagonal (Eq. 19).
+template <class Real, class Model>
+DESCENT_HOST_DEVICE inline void converted_gradient(const Model& model,
+                                                   const Conversion<Real>& conv, Real& l,
+                                                   const TetRest<Real>& rest,
+                                                   const TetCorners<Real>& c, Vec3<Real> grad[4],
+                                                   Vec3<Real>* diag) {
+  const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);
+  l = conv.next_interpolant(l, f);
+  Mat3<Real> p = model.stress(f);
+  if (l > Real(0)) {
+    const Mat3<Real> p_arap = conv.arap.stress(f);
+    for (int k = 0; k < 9; ++k) p.m[k] = (Real(1) - l) * p.m[k] + l * p_arap.m[k];
+  }
+  Vec3<Real> b[4];
+  for (int a = 0; a < 4; ++a) {
+    b[a] = corner_operator(rest.dm_inv, a);
+    const Vec3<Real> pb = mul(p, b[a]);
+    grad[a] = {rest.volume * pb.x, rest.volume * pb.y, rest.volume * pb.z};
+  }
+  if (!diag) return;
+  model.hessian_diagonal(f, b, diag);
+  for (int a = 0; a < 4; ++a) {
+    const Real pd = Real(2) * conv.arap.mu * dot(b[a], b[a]);
+    diag[a] = {rest.volume * ((Real(1) - l) * diag[a].x + l * pd),
+               rest.volume * ((Real(1) - l) * diag[a].y + l * pd),
+               rest.volume * ((Real(1) - l) * diag[a].z + l * pd)};
+  }
+}
+
+}  // namespace descent
