@@ -15,6 +15,8 @@ namespace descent {
 
 template <class Real>
 struct Arap {
+  // Defined (finite, smooth) for inverted elements, det F <= 0.
+  static constexpr bool kInvertible = true;
   Real mu;
 
   // Only the shear modulus of (E, nu) enters: mu = E / (2 (1 + nu)).

@@ -37,18 +37,17 @@ DESCENT_HOST_DEVICE inline Real converted_energy(const Model& model, const Conve
                                                  Real l, const TetRest<Real>& rest,
                                                  const TetCorners<Real>& c) {
   const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);
-  const Real psi = l < Real(1) ? model.energy(f) : Real(0);
-  const Real psi_arap = l > Real(0) ? conv.arap.energy(f) : Real(0);
-  return rest.volume * ((Real(1) - l) * psi + l * psi_arap);
+  const Real e = l < Real(1) ? element_energy_of(model, rest, f) : Real(0);
+  const Real e_arap = l > Real(0) ? rest.volume * conv.arap.energy(f) : Real(0);
+  return (Real(1) - l) * e + l * e_arap;
 }
 
 // Updates the element's interpolant `l` from its current F (Eq. 17), then
 // the hybrid gradient per corner and, when `diag` is not null, the blended
 // preconditioner diagonal (Eq. 19).
 template <class Real, class Model>
-DESCENT_HOST_DEVICE inline void converted_gradient(const Model& model,
-                                                   const Conversion<Real>& conv, Real& l,
-                                                   const TetRest<Real>& rest,
+DESCENT_HOST_DEVICE inline void converted_gradient(const Model& model, const Conversion<Real>& conv,
+                                                   Real& l, const TetRest<Real>& rest,
                                                    const TetCorners<Real>& c, Vec3<Real> grad[4],
                                                    Vec3<Real>* diag) {
   const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);

@@ -28,6 +28,8 @@ namespace descent {
 
 template <class Real>
 struct Corotated {
+  // Defined (finite, smooth) for inverted elements, det F <= 0.
+  static constexpr bool kInvertible = true;
   Real mu;
   Real lambda;
 

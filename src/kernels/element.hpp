@@ -3,6 +3,8 @@
 // A model provides energy(F), stress(F) (first Piola-Kirchhoff P) and
 // hessian_diagonal(F, b, out): d2Psi along dF = e_i b_a^T for each corner a
 // and axis i (the diagonal of the 12x12 element Hessian divided by V).
+#include <limits>
+
 #include "kernels/tet.hpp"
 
 namespace descent {
@@ -12,11 +14,23 @@ struct TetCorners {
   Vec3<Real> x[4];
 };
 
+// V Psi(F); infinite for an inverted element of a model not defined there
+// (Model::kInvertible false), so the energy check rejects any step into
+// inversion instead of letting a long step tunnel through J = 0.
+template <class Real, class Model>
+DESCENT_HOST_DEVICE inline Real element_energy_of(const Model& model, const TetRest<Real>& rest,
+                                                  const Mat3<Real>& f) {
+  if constexpr (!Model::kInvertible) {
+    if (det(f) <= Real(0)) return std::numeric_limits<Real>::infinity();
+  }
+  return rest.volume * model.energy(f);
+}
+
 template <class Real, class Model>
 DESCENT_HOST_DEVICE inline Real element_energy(const Model& model, const TetRest<Real>& rest,
                                                const TetCorners<Real>& c) {
-  const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);
-  return rest.volume * model.energy(f);
+  return element_energy_of(model, rest,
+                           deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv));
 }
 
 // grad[a] = V P b_a: the element's contribution to dE/dx of corner a.

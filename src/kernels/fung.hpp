@@ -18,6 +18,9 @@ namespace descent {
 
 template <class Real>
 struct Fung {
+  // Built on J^(-2/3): meaningless for det F <= 0, where element_energy
+  // makes it infinite so that no step into inversion is accepted.
+  static constexpr bool kInvertible = false;
   NeoHookean<Real> neo_hookean;
   Real c2;
   Real c3;

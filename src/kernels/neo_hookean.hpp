@@ -49,6 +49,9 @@ DESCENT_HOST_DEVICE inline void add_det_hessian(const Mat3<Real>& f, Real s, Rea
 
 template <class Real>
 struct NeoHookean {
+  // Built on J^(-2/3): meaningless for det F <= 0, where element_energy
+  // makes it infinite so that no step into inversion is accepted.
+  static constexpr bool kInvertible = false;
   Real mu;
   Real kappa;
 

@@ -10,6 +10,8 @@ namespace descent {
 
 template <class Real>
 struct StVK {
+  // Defined (finite, smooth) for inverted elements, det F <= 0.
+  static constexpr bool kInvertible = true;
   Real mu;
   Real lambda;
 

@@ -94,9 +94,8 @@ void converted_element_gradients(const Model& model, const Conversion<Real>& con
 
 template <class Real, class Model>
 EnergySum converted_element_energy_sum(const Model& model, const Conversion<Real>& conv,
-                                       const Real* interpolant, const Real* x,
-                                       const index_t* tets, const TetRest<Real>* rest,
-                                       index_t begin, index_t end) {
+                                       const Real* interpolant, const Real* x, const index_t* tets,
+                                       const TetRest<Real>* rest, index_t begin, index_t end) {
   double value = 0, magnitude = 0;
 #pragma omp parallel for schedule(static) reduction(+ : value, magnitude)
   for (index_t t = begin; t < end; ++t) {
