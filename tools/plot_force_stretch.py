@@ -43,6 +43,8 @@ def worst_error(model, points, m):
     """(compared points, max relative force error, its stretch) over the comparable points."""
     compared, worst, worst_at = 0, math.nan, math.nan
     for s, force, area in points:
+        if s <= 0:  # the box went through itself: off the uniaxial branch
+            continue
         ref = uniaxial_point(model, s, m)
         if force == 0 or not ref.well_defined:
             continue
@@ -76,7 +78,9 @@ def plot(runs, m, output):
     cols = min(3, len(runs))
     rows = math.ceil(len(runs) / cols)
     fig, axes = plt.subplots(rows, cols, figsize=(4.5 * cols, 3.8 * rows), squeeze=False)
-    for ax, (model, points) in zip(axes.flat, runs.items()):
+    for ax, (model, all_points) in zip(axes.flat, runs.items()):
+        points = [p for p in all_points if p[0] > 0]
+        inverted = len(all_points) - len(points)
         s, good, bad = analytic_curve(model, points, m)
         ax.plot(s, good, "-", color="C0", label="analytic")
         if any(not math.isnan(p) for p in bad):
@@ -85,7 +89,7 @@ def plot(runs, m, output):
                 label="simulation")
         ax.axhline(0, color="0.85", lw=0.8, zorder=0)
         ax.axvline(1, color="0.85", lw=0.8, zorder=0)
-        ax.set_title(model)
+        ax.set_title(model + (f" ({inverted} inverted, not shown)" if inverted else ""))
         ax.set_xlabel("stretch")
         ax.set_ylabel("nominal stress F/A (Pa)")
         ax.legend(fontsize=8)
