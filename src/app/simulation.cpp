@@ -1,5 +1,7 @@
 #include "app/simulation.hpp"
 
+#include <algorithm>
+
 #include "comm/mpi_check.hpp"
 #include "common/error.hpp"
 #include "solver/loads.hpp"
@@ -90,6 +92,15 @@ Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh
       problem_(local_, scene, halo_, reduction_, scene_load_weights(scene, mesh)),
       solver_(problem_, scene.solver),
       state_(rest_state<Real>(local_)) {}
+
+template <class Real>
+void Simulation<Real>::set_positions(const std::vector<double>& global_xyz) {
+  for (index_t v = 0; v < local_.num_vertices(); ++v)
+    for (int i = 0; i < 3; ++i)
+      state_.q[3 * v + i] = static_cast<Real>(global_xyz[3 * local_.global_vertex[v] + i]);
+  std::fill(state_.v.begin(), state_.v.end(), Real(0));
+  std::fill(state_.v_prev.begin(), state_.v_prev.end(), Real(0));
+}
 
 template <class Real>
 std::vector<double> Simulation<Real>::measure() {

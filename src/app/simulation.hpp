@@ -27,6 +27,10 @@ class Simulation {
 
   StepStats step() { return solver_.step(state_); }
 
+  // Starts from positions other than the rest shape (xyz by global vertex id,
+  // at rest velocity): for recovery tests and restarts.
+  void set_positions(const std::vector<double>& global_xyz);
+
   const LocalMesh& local_mesh() const { return local_; }
   const LocalProblem<Real>& problem() const { return problem_; }
   const BodyState<Real>& state() const { return state_; }

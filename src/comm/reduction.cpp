@@ -8,23 +8,25 @@ namespace descent {
 
 EnergySums EnergyReduction::sum(const Energy* local, int count) {
   const double start = MPI_Wtime();
-  // [value0, magnitude0, value1, magnitude1, count of non-finite values]
-  double send[5] = {0, 0, 0, 0, 0};
+  // [value0, magnitude0, value1, magnitude1, non-finite count 0, 1]
+  double send[6] = {0, 0, 0, 0, 0, 0};
   for (int k = 0; k < count; ++k) {
     if (std::isfinite(local[k].value) && std::isfinite(local[k].magnitude)) {
       send[2 * k] = local[k].value;
       send[2 * k + 1] = local[k].magnitude;
     } else {
-      send[4] += 1;
+      send[4 + k] = 1;
     }
   }
-  double global[5] = {0, 0, 0, 0, 0};
-  DESCENT_MPI_CHECK(MPI_Allreduce(send, global, 5, MPI_DOUBLE, MPI_SUM, comm_));
+  double global[6] = {0, 0, 0, 0, 0, 0};
+  DESCENT_MPI_CHECK(MPI_Allreduce(send, global, 6, MPI_DOUBLE, MPI_SUM, comm_));
   ++counters_.allreduces;
   counters_.seconds += MPI_Wtime() - start;
   EnergySums sums;
-  for (int k = 0; k < 2; ++k) sums.energy[k] = {global[2 * k], global[2 * k + 1]};
-  sums.all_finite = global[4] == 0.0;
+  for (int k = 0; k < 2; ++k) {
+    sums.energy[k] = {global[2 * k], global[2 * k + 1]};
+    sums.finite[k] = global[4 + k] == 0.0;
+  }
   return sums;
 }
 

@@ -20,7 +20,7 @@ struct Energy {
 // no collective of its own.
 struct EnergySums {
   Energy energy[2];
-  bool all_finite = true;
+  bool finite[2] = {true, true};  // no rank had a non-finite term in energy[k]
 };
 
 struct ReductionCounters {

@@ -31,12 +31,20 @@ struct Conversion {
   }
 };
 
-// Element energy V ((1 - l) Psi + l Psi_arap).
+// Element energy V ((1 - l) Psi + l Psi_arap) with the stored interpolant,
+// the one the gradient used. An inverted element of a model undefined there
+// counts as pure arap, as Eq. 17 will make it (sigma_min <= 0 gives l = 1):
+// so a step that inverts an element is judged, not rejected outright. l is
+// not re-derived from F otherwise: the gradient treats l as constant, and an
+// energy whose l moved with F would not descend along it.
 template <class Real, class Model>
 DESCENT_HOST_DEVICE inline Real converted_energy(const Model& model, const Conversion<Real>& conv,
                                                  Real l, const TetRest<Real>& rest,
                                                  const TetCorners<Real>& c) {
   const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);
+  if constexpr (!Model::kInvertible) {
+    if (det(f) <= Real(0)) l = Real(1);
+  }
   const Real e = l < Real(1) ? element_energy_of(model, rest, f) : Real(0);
   const Real e_arap = l > Real(0) ? rest.volume * conv.arap.energy(f) : Real(0);
   return (Real(1) - l) * e + l * e_arap;
@@ -52,7 +60,11 @@ DESCENT_HOST_DEVICE inline void converted_gradient(const Model& model, const Con
                                                    Vec3<Real>* diag) {
   const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);
   l = conv.next_interpolant(l, f);
-  Mat3<Real> p = model.stress(f);
+  // At l = 1 the model is not evaluated at all: it may be undefined or
+  // overflow there (an inverted or crushed element), and 0 * inf is NaN.
+  const bool with_model = l < Real(1);
+  Mat3<Real> p{};
+  if (with_model) p = model.stress(f);
   if (l > Real(0)) {
     const Mat3<Real> p_arap = conv.arap.stress(f);
     for (int k = 0; k < 9; ++k) p.m[k] = (Real(1) - l) * p.m[k] + l * p_arap.m[k];
@@ -64,7 +76,11 @@ DESCENT_HOST_DEVICE inline void converted_gradient(const Model& model, const Con
     grad[a] = {rest.volume * pb.x, rest.volume * pb.y, rest.volume * pb.z};
   }
   if (!diag) return;
-  model.hessian_diagonal(f, b, diag);
+  if (with_model) {
+    model.hessian_diagonal(f, b, diag);
+  } else {
+    for (int a = 0; a < 4; ++a) diag[a] = {Real(0), Real(0), Real(0)};
+  }
   for (int a = 0; a < 4; ++a) {
     const Real pd = Real(2) * conv.arap.mu * dot(b[a], b[a]);
     diag[a] = {rest.volume * ((Real(1) - l) * diag[a].x + l * pd),

@@ -68,10 +68,16 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   const std::size_t n = q_.size();
 
   // The initial guess is the first checked state; its energy is summed with
-  // the first check's (one allreduce for both).
-  const Energy initial_local_energy = problem_.local_energy(q_.data(), y_.data(), qt_.data());
+  // the first check's (one allreduce for both). With model conversion the
+  // energy function itself moves as interpolants change (Eq. 17), so every
+  // check re-evaluates the checked state too and compares both under the
+  // same interpolants; the pair still travels in one allreduce.
+  const bool reevaluate = problem_.energy_changes_within_step();
+  const Energy initial_local_energy =
+      reevaluate ? Energy{} : problem_.local_energy(q_.data(), y_.data(), qt_.data());
   bool first_check = true;
   double checked_energy = 0;
+  bool checked_finite = true;  // a non-finite checked state yields to any finite one
   q_checked_ = q_;
   q_prev_ = q_;
   Real omega = 1;
@@ -112,10 +118,15 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     const bool last = k + 1 == spec_.iterations;
     if ((k + 1) % spec_.check_interval != 0 && !last) continue;
     const Energy local[2] = {problem_.local_energy(q_.data(), y_.data(), qt_.data()),
-                             initial_local_energy};
-    const EnergySums sums = problem_.global_energies(local, first_check ? 2 : 1);
-    if (first_check) {
+                             reevaluate
+                                 ? problem_.local_energy(q_checked_.data(), y_.data(), qt_.data())
+                                 : initial_local_energy};
+    const EnergySums sums = problem_.global_energies(local, first_check || reevaluate ? 2 : 1);
+    if (first_check || reevaluate) {
       checked_energy = sums.energy[1].value;
+      checked_finite = sums.finite[1];
+    }
+    if (first_check) {
       stats.initial_energy = checked_energy;
       first_check = false;
     }
@@ -124,8 +135,9 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     // for nothing.
     const double tolerance = energy_roundoff<Real>(sums.energy[0].magnitude);
     stats.energy_tolerance = tolerance;
-    if (sums.all_finite && sums.energy[0].value <= checked_energy + tolerance) {
+    if (sums.finite[0] && (!checked_finite || sums.energy[0].value <= checked_energy + tolerance)) {
       checked_energy = sums.energy[0].value;
+      checked_finite = true;
       q_checked_ = q_;
       continue;
     }

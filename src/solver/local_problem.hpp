@@ -70,6 +70,10 @@ class LocalProblem {
   // vertices (each vertex counted by one rank). No communication.
   Energy local_energy(const Real* q, const Real* y, const Real* qt) const;
 
+  // Whether eps itself changes between iterations of one step (model
+  // conversion updates its interpolants at every gradient evaluation).
+  bool energy_changes_within_step() const { return converting_; }
+
   // Conversion interpolants per local tet (empty without conversion).
   const std::vector<Real>& interpolants() const { return interpolant_; }
 
