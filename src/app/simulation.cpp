@@ -61,7 +61,8 @@ std::vector<std::vector<double>> scene_load_weights(const Scene& scene, const Me
 bool scene_needs_measurements(const Scene& scene) {
   bool moving = false;
   for (const FixedRegion& region : scene.fixed) moving = moving || region.motion.kind != "none";
-  return moving || !scene.loads.empty() || scene.time.quasistatic;
+  return moving || !scene.loads.empty() || scene.time.quasistatic ||
+         scene.material.conversion.enabled;
 }
 
 std::vector<std::string> scene_measurement_names(const Scene& scene) {
@@ -76,6 +77,7 @@ std::vector<std::string> scene_measurement_names(const Scene& scene) {
     for (const char* a : xyz) names.push_back(detail::concat("load", r, "_disp_", a));
     for (const char* a : xyz) names.push_back(detail::concat("load", r, "_force_", a));
   }
+  if (scene.material.conversion.enabled) names.push_back("converted_elements");
   return names;
 }
 
@@ -106,6 +108,10 @@ template <class Real>
 std::vector<double> Simulation<Real>::measure() {
   if (measurement_names_.empty()) return {};
   std::vector<double> sums = solver_.local_region_sums();
+  // Elements blending toward arap (l > 0), summed in the same allreduce.
+  const auto& interpolants = problem_.interpolants();
+  sums.push_back(static_cast<double>(
+      std::count_if(interpolants.begin(), interpolants.end(), [](Real l) { return l > 0; })));
   reduction_.sum_in_place(sums);
   // Sums -> means and totals, in the order of measurement_names_.
   std::vector<double> values;
@@ -121,6 +127,7 @@ std::vector<double> Simulation<Real>::measure() {
     const std::array<double, 3> force = load_force(scene_.loads[r], state_.time);
     for (int i = 0; i < 3; ++i) values.push_back(force[i]);
   }
+  if (scene_.material.conversion.enabled) values.push_back(sums.back());
   return values;
 }
 
