@@ -34,7 +34,7 @@ def cpu_model():
 def run_once(binary, ranks, threads, preset, iterations, frames, out_dir):
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), OMP_PROC_BIND="false",
                OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none", str(binary), "run",
+    cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none", str(binary), "run", "--overwrite",
            "--set", f'mesh.helix.preset="{preset}"', "--set", f"solver.iterations={iterations}",
            "--set", f"time.frames={frames}", "--set", f"output.every={frames + 1}",
            "--out", str(out_dir)]

@@ -32,7 +32,7 @@ PARAMETERS = {"mooney_rivlin": ["--set", "material.c2=5e3"],
 
 
 def run(binary, model, mode, out_dir):
-    cmd = [str(binary), "run", str(SCENE), "--quiet", "--out", str(out_dir),
+    cmd = [str(binary), "run", str(SCENE), "--quiet", "--overwrite", "--out", str(out_dir),
            "--set", f'material.model="{model}"', *PARAMETERS.get(model, []), *MODES[mode]]
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     subprocess.run(cmd, check=True, env=env)

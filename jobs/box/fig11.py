@@ -37,7 +37,7 @@ def run(binary, model, material, force, frames, iterations, cells, out_dir, rank
         extra += ["--set", f"material.c2={material.c2!r}"]
     if model == "fung":
         extra += ["--set", f"material.c3={material.c3!r}"]
-    cmd = [str(binary), "run", str(SCENE), "--quiet", "--out", str(out_dir), *extra,
+    cmd = [str(binary), "run", str(SCENE), "--quiet", "--overwrite", "--out", str(out_dir), *extra,
            "--set", f'material.model="{model}"', "--set", f"material.young={material.young!r}",
            "--set", f"material.poisson={material.poisson!r}", "--set", f"load.0.force=[0.0, {force!r}, 0.0]",
            "--set", f"load.0.ramp={float(frames)}", "--set", f"time.frames={frames}",

@@ -34,6 +34,7 @@ int main_with_mpi(int argc, char** argv) {
   std::string scene_path, out_dir, mesh_out;
   std::vector<std::string> overrides;
   bool quiet = false;
+  bool overwrite = false;
   int threads = 0;
 
   CLI::App* run =
@@ -43,6 +44,8 @@ int main_with_mpi(int argc, char** argv) {
       ->type_name("KEY=VALUE");
   run->add_option("--out", out_dir, "Output directory (overrides output.dir)");
   run->add_flag("--quiet", quiet, "No progress output");
+  run->add_flag("--overwrite", overwrite,
+                "Reuse an output directory holding an earlier run (default: write to DIR.1, ...)");
   run->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
       ->check(CLI::PositiveNumber);
 
@@ -68,6 +71,7 @@ int main_with_mpi(int argc, char** argv) {
     if (*run) {
       RunOptions options;
       options.quiet = quiet;
+      options.overwrite = overwrite;
       return agree(MPI_COMM_WORLD, [&] { return run_scene(MPI_COMM_WORLD, scene, options); });
     }
     agree(MPI_COMM_WORLD, [&] {

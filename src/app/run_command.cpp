@@ -4,6 +4,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <string>
 
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
@@ -42,6 +44,27 @@ void report_fixed_regions(const Scene& scene, const Mesh& mesh) {
   }
 }
 
+// The directory this run writes to: `dir` unless it already holds a run
+// (frames or stats) and overwriting was not asked for, then the first free
+// DIR.N. Decided on rank 0 and broadcast, so every rank writes to the same.
+std::string output_directory(MPI_Comm comm, const std::string& dir, bool overwrite) {
+  namespace fs = std::filesystem;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::string chosen = dir;
+  if (rank == 0 && !overwrite) {
+    auto holds_run = [](const fs::path& d) {
+      return fs::exists(d / "frames.h5") || fs::exists(d / "stats.csv");
+    };
+    for (int n = 1; holds_run(chosen); ++n) chosen = dir + "." + std::to_string(n);
+  }
+  int length = static_cast<int>(chosen.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+  chosen.resize(length);
+  MPI_Bcast(chosen.data(), length, MPI_CHAR, 0, comm);
+  return chosen;
+}
+
 }  // namespace
 
 int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
@@ -76,8 +99,12 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   layout.tet_ids = tets.ids;
   layout.tet_vertices = tets.vertices;
   layout.owned_rest_positions = rest;
-  FrameWriter frames(comm, scene.output.dir, layout);
-  StatsWriter stats(comm, scene.output.dir, sim.measurement_names());
+  const std::string out_dir = output_directory(comm, scene.output.dir, options.overwrite);
+  if (talk && out_dir != scene.output.dir)
+    std::printf("descent: %s holds an earlier run; writing to %s (--overwrite reuses it)\n",
+                scene.output.dir.c_str(), out_dir.c_str());
+  FrameWriter frames(comm, out_dir, layout);
+  StatsWriter stats(comm, out_dir, sim.measurement_names());
   frames.write_frame(0, 0.0, sim.owned_positions());
 
   const double h = scene.time.dt;

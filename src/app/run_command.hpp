@@ -11,6 +11,9 @@ namespace descent {
 
 struct RunOptions {
   bool quiet = false;
+  // Reuse an output directory that already holds a run. Without it such a
+  // directory is left alone and the run goes to DIR.1, DIR.2, ...
+  bool overwrite = false;
 };
 
 // Returns the process exit code (0 on success). Collective.
