@@ -110,6 +110,8 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   const double h = scene.time.dt;
   double total_ms = 0;
   long total_iterations = 0;
+  int stalled_steps = 0;
+  constexpr int kStallWarnings = 5;
   for (int frame = 1; frame <= scene.time.frames; ++frame) {
     const double halo_before = sim.halo_counters().seconds;
     const double reduce_before = sim.reduction_counters().seconds;
@@ -130,10 +132,19 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
     row.wall_ms = ms;
     row.halo_ms = 1e3 * (sim.halo_counters().seconds - halo_before);
     row.allreduce_ms = 1e3 * (sim.reduction_counters().seconds - reduce_before);
+    row.stalled = step.stalled ? 1 : 0;
     row.extra = sim.measure();
     stats.write(row);
     if (frame % scene.output.every == 0)
       frames.write_frame(frame, frame * h, sim.owned_positions());
+    stalled_steps += row.stalled;
+    if (rank == 0 && step.stalled && stalled_steps <= kStallWarnings) {
+      std::fprintf(stderr,
+                   "warning: frame %d: alpha fell below solver.alpha_min = %g after %d "
+                   "iterations; the step ended unconverged%s\n",
+                   frame, scene.solver.alpha_min, step.iterations,
+                   stalled_steps == kStallWarnings ? " (further such warnings suppressed)" : "");
+    }
     if (talk) {
       std::printf("frame %4d/%d  %8.1f ms  alpha %.3g  rollbacks %d%s\n", frame, scene.time.frames,
                   ms, step.alpha, step.rollbacks,
@@ -141,6 +152,10 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
       std::fflush(stdout);
     }
   }
+  if (rank == 0 && stalled_steps > 0)
+    std::fprintf(stderr,
+                 "warning: %d of %d steps ended at alpha_min (column `stalled` in stats.csv)\n",
+                 stalled_steps, scene.time.frames);
   if (talk && scene.time.frames > 0) {
     const double ns_per_tet_iteration =
         1e6 * total_ms / (static_cast<double>(mesh.num_tets()) * total_iterations);

@@ -73,6 +73,7 @@ struct FrameStats {
   double wall_ms = 0;
   double halo_ms = 0;
   double allreduce_ms = 0;
+  int stalled = 0;  // 1: alpha fell below alpha_min and the step ended early
   std::vector<double> extra;  // values of the writer's extra columns, in order
 };
 

@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 constexpr const char* kStatsName = "stats.csv";
 constexpr const char* kHeader =
-    "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms";
+    "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms,stalled";
 
 struct CloseFile {
   void operator()(std::FILE* file) const { std::fclose(file); }
@@ -79,8 +79,11 @@ void StatsWriter::write(const FrameStats& row) {
   std::string line = detail::concat(
       row.frame, ',', format_double(row.sim_time), ',', row.iterations, ',', row.rollbacks, ',',
       format_double(row.alpha), ',', format_double(row.energy), ',', format_ms(row.wall_ms), ',',
-      format_ms(row.halo_ms), ',', format_ms(row.allreduce_ms));
-  for (double value : row.extra) line += "," + format_double(value);
+      format_ms(row.halo_ms), ',', format_ms(row.allreduce_ms), ',', row.stalled);
+  for (double value : row.extra) {
+    line += ',';
+    line += format_double(value);
+  }
   line += '\n';
   if (std::fputs(line.c_str(), impl_->file.get()) < 0 || std::fflush(impl_->file.get()) != 0)
     throw InputError(detail::concat("cannot write ", impl_->path.string(), ": ",

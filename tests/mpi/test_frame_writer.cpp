@@ -353,11 +353,21 @@ std::vector<std::string> split(const std::string& line, char separator) {
 TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
   TestDirectory dir("stats");
   const std::vector<FrameStats> rows = {
-      {0, 0.0, 12, 0, 1.0, -1.0 / 3.0, 10.25, 1.5, 0.125},
-      {1, 1.0 / 60.0, 30, 2, 0.123456789012345678, 6.02214076e23, 2000.0, 0.0004, 3.0}};
+      {0, 0.0, 12, 0, 1.0, -1.0 / 3.0, 10.25, 1.5, 0.125, 0, {0.5, -2.0}},
+      {1,
+       1.0 / 60.0,
+       30,
+       2,
+       0.123456789012345678,
+       6.02214076e23,
+       2000.0,
+       0.0004,
+       3.0,
+       1,
+       {1e-300, 7.0}}};
   std::string path;
   {
-    StatsWriter stats(MPI_COMM_WORLD, dir.path().string());
+    StatsWriter stats(MPI_COMM_WORLD, dir.path().string(), {"load0_disp_y", "converted"});
     path = stats.path();
     for (const FrameStats& row : rows) stats.write(row);
   }
@@ -367,11 +377,12 @@ TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
     std::string line;
     std::getline(csv, line);
     EXPECT_EQ(line,
-              "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms");
+              "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms,"
+              "stalled,load0_disp_y,converted");
     for (const FrameStats& row : rows) {
       ASSERT_TRUE(std::getline(csv, line));
       const auto fields = split(line, ',');
-      ASSERT_EQ(fields.size(), 9u) << line;
+      ASSERT_EQ(fields.size(), 12u) << line;
       EXPECT_EQ(std::stoi(fields[0]), row.frame);
       EXPECT_EQ(std::stod(fields[1]), row.sim_time) << "exact round trip";
       EXPECT_EQ(std::stoi(fields[2]), row.iterations);
@@ -381,6 +392,9 @@ TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
       EXPECT_NEAR(std::stod(fields[6]), row.wall_ms, 5e-4);
       EXPECT_NEAR(std::stod(fields[7]), row.halo_ms, 5e-4);
       EXPECT_NEAR(std::stod(fields[8]), row.allreduce_ms, 5e-4);
+      EXPECT_EQ(std::stoi(fields[9]), row.stalled);
+      EXPECT_EQ(std::stod(fields[10]), row.extra[0]) << "exact round trip";
+      EXPECT_EQ(std::stod(fields[11]), row.extra[1]) << "exact round trip";
     }
     EXPECT_FALSE(std::getline(csv, line)) << "one row per write: " << line;
   }
