@@ -102,6 +102,12 @@ index_t orient_tets(Mesh& mesh, const MeshOrigin& origin) {
                        e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
                        e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
     const double longest = std::sqrt(longest_squared);
+    // Coordinates near the double range make the volume overflow (inf, or
+    // NaN from 0 * inf): no solver can use such a tet.
+    if (!std::isfinite(det) || !std::isfinite(longest * longest * longest))
+      fail_tet(origin, t,
+               detail::concat("has a volume that overflows double precision: its vertices ",
+                              vertex_list(mesh, origin, t), " are too far apart"));
     if (std::abs(det) <= kFlatRelativeVolume * longest * longest * longest)
       fail_tet(origin, t,
                detail::concat("has zero volume: its vertices ", vertex_list(mesh, origin, t),

@@ -15,7 +15,25 @@ namespace descent {
 
 namespace {
 
+// toml++ recurses once per dotted-key part and per nesting level; a line
+// long enough to hold tens of thousands of them overflows the stack. No
+// scene needs a line near this long.
+constexpr std::size_t kMaxLineLength = 4096;
+
+void reject_overlong_lines(std::string_view text, const std::string& source) {
+  std::size_t line = 1, start = 0;
+  for (std::size_t end = 0; end <= text.size(); ++end) {
+    if (end < text.size() && text[end] != '\n') continue;
+    if (end - start > kMaxLineLength)
+      throw InputError(detail::concat(source, ":", line, ": line of ", end - start,
+                                      " characters; a scene line has at most ", kMaxLineLength));
+    ++line;
+    start = end + 1;
+  }
+}
+
 SceneDocument parse_document(std::string_view text, const std::string& source) {
+  reject_overlong_lines(text, source);
   try {
     return SceneDocument{toml::parse(text, std::string(source)), source};
   } catch (const toml::parse_error& error) {

@@ -140,6 +140,16 @@ void apply_override(toml::table& root, const std::string& text) {
   const std::string_view key = trim(std::string_view(text).substr(0, equals));
   const std::string_view value_text = trim(std::string_view(text).substr(equals + 1));
   std::vector<std::string_view> segments = split_key(key);
+  // Real keys are at most 4 deep (fixed.0.motion.kind); a deeper one is a
+  // mistake, and a pathological one would exhaust the stack in toml++.
+  constexpr std::size_t kMaxKeyDepth = 8;
+  constexpr std::size_t kMaxValueLength = 4096;  // as a scene line: toml++ recursion
+  if (value_text.size() > kMaxValueLength)
+    throw InputError(detail::concat(label, ": the value has ", value_text.size(),
+                                    " characters; at most ", kMaxValueLength));
+  if (segments.size() > kMaxKeyDepth)
+    throw InputError(detail::concat("--set ", key.substr(0, 64), key.size() > 64 ? "..." : "",
+                                    ": a key has at most ", kMaxKeyDepth, " dotted parts"));
   for (std::string_view segment : segments) {
     if (segment.empty()) {
       throw InputError(detail::concat(label, ": '", key, "' is not a dotted key"));
