@@ -3,7 +3,7 @@
 # sudo available). Safe to re-run: apt-get skips what is already there.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config procps   # procps: pkill in the restart test
   openmpi-bin libopenmpi-dev      # MPI
   libmetis-dev                    # partitioning
   libeigen3-dev

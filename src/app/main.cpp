@@ -35,6 +35,7 @@ int main_with_mpi(int argc, char** argv) {
   std::vector<std::string> overrides;
   bool quiet = false;
   bool overwrite = false;
+  bool restart = false;
   int threads = 0;
 
   CLI::App* run =
@@ -46,6 +47,8 @@ int main_with_mpi(int argc, char** argv) {
   run->add_flag("--quiet", quiet, "No progress output");
   run->add_flag("--overwrite", overwrite,
                 "Reuse an output directory holding an earlier run (default: write to DIR.1, ...)");
+  run->add_flag("--restart", restart,
+                "Continue the run in the output directory from its last checkpoint");
   run->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
       ->check(CLI::PositiveNumber);
 
@@ -72,6 +75,7 @@ int main_with_mpi(int argc, char** argv) {
       RunOptions options;
       options.quiet = quiet;
       options.overwrite = overwrite;
+      options.restart = restart;
       return agree(MPI_COMM_WORLD, [&] { return run_scene(MPI_COMM_WORLD, scene, options); });
     }
     agree(MPI_COMM_WORLD, [&] {

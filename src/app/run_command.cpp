@@ -9,6 +9,8 @@
 
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
+#include "common/error.hpp"
+#include "io/checkpoint.hpp"
 #include "io/frame_writer.hpp"
 
 namespace descent {
@@ -99,20 +101,37 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   layout.tet_ids = tets.ids;
   layout.tet_vertices = tets.vertices;
   layout.owned_rest_positions = rest;
-  const std::string out_dir = output_directory(comm, scene.output.dir, options.overwrite);
+  // A restart continues in place from this rank's checkpoint; ranks agree on
+  // the frame (one checkpoint set, written together).
+  int first_frame = 1;
+  if (options.restart) {
+    const Checkpoint checkpoint = read_checkpoint(checkpoint_path(scene.output.dir, rank, size));
+    sim.restore(checkpoint);
+    int frames[2] = {checkpoint.frame, -checkpoint.frame};
+    MPI_Allreduce(MPI_IN_PLACE, frames, 2, MPI_INT, MPI_MAX, comm);
+    if (frames[0] != -frames[1])
+      throw InputError("the checkpoints in " + scene.output.dir + " are from different frames");
+    first_frame = checkpoint.frame + 1;
+    if (talk) std::printf("descent: restarting after frame %d\n", checkpoint.frame);
+  }
+  const std::string out_dir = options.restart
+                                  ? scene.output.dir
+                                  : output_directory(comm, scene.output.dir, options.overwrite);
   if (talk && out_dir != scene.output.dir)
     std::printf("descent: %s holds an earlier run; writing to %s (--overwrite reuses it)\n",
                 scene.output.dir.c_str(), out_dir.c_str());
-  FrameWriter frames(comm, out_dir, layout);
-  StatsWriter stats(comm, out_dir, sim.measurement_names());
-  frames.write_frame(0, 0.0, sim.owned_positions());
+  const int resume_after = options.restart ? first_frame - 1 : -1;
+  FrameWriter frames(comm, out_dir, layout, resume_after);
+  StatsWriter stats(comm, out_dir, sim.measurement_names(), resume_after);
+  if (!options.restart) frames.write_frame(0, 0.0, sim.owned_positions());
 
   const double h = scene.time.dt;
   double total_ms = 0;
   long total_iterations = 0;
   int stalled_steps = 0;
   constexpr int kStallWarnings = 5;
-  for (int frame = 1; frame <= scene.time.frames; ++frame) {
+  const int checkpoint_every = scene.output.checkpoint_every;
+  for (int frame = first_frame; frame <= scene.time.frames; ++frame) {
     const double halo_before = sim.halo_counters().seconds;
     const double reduce_before = sim.reduction_counters().seconds;
     const auto start = std::chrono::steady_clock::now();
@@ -137,6 +156,9 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
     stats.write(row);
     if (frame % scene.output.every == 0)
       frames.write_frame(frame, frame * h, sim.owned_positions());
+    // After the frame's output, so a restart never lacks a frame it skips.
+    if (checkpoint_every > 0 && (frame % checkpoint_every == 0 || frame == scene.time.frames))
+      write_checkpoint(checkpoint_path(out_dir, rank, size), sim.checkpoint(frame));
     stalled_steps += row.stalled;
     if (rank == 0 && step.stalled && stalled_steps <= kStallWarnings) {
       std::fprintf(stderr,
@@ -158,7 +180,9 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
                  stalled_steps, scene.time.frames);
   if (talk && scene.time.frames > 0) {
     const double ns_per_tet_iteration =
-        1e6 * total_ms / (static_cast<double>(mesh.num_tets()) * total_iterations);
+        total_iterations > 0
+            ? 1e6 * total_ms / (static_cast<double>(mesh.num_tets()) * total_iterations)
+            : 0.0;
     std::printf("descent: %d frames in %.1f s, %.1f ms/frame, %.1f ns per tet-iteration\n",
                 scene.time.frames, total_ms / 1e3, total_ms / scene.time.frames,
                 ns_per_tet_iteration);

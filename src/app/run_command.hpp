@@ -14,6 +14,9 @@ struct RunOptions {
   // Reuse an output directory that already holds a run. Without it such a
   // directory is left alone and the run goes to DIR.1, DIR.2, ...
   bool overwrite = false;
+  // Continue a killed run from its last checkpoint in output.dir (same scene,
+  // same rank count): frames and stats after the checkpoint are replaced.
+  bool restart = false;
 };
 
 // Returns the process exit code (0 on success). Collective.

@@ -86,6 +86,8 @@ std::vector<std::string> scene_measurement_names(const Scene& scene) {
 template <class Real>
 Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh)
     : scene_(scene),
+      num_global_vertices_(mesh.num_vertices()),
+      num_global_tets_(mesh.num_tets()),
       measurement_names_(scene_measurement_names(scene)),
       tet_part_(partition_on_root(comm, mesh)),
       local_(build_local_mesh(mesh, tet_part_, comm_rank(comm), comm_size(comm))),
@@ -102,6 +104,44 @@ void Simulation<Real>::set_positions(const std::vector<double>& global_xyz) {
       state_.q[3 * v + i] = static_cast<Real>(global_xyz[3 * local_.global_vertex[v] + i]);
   std::fill(state_.v.begin(), state_.v.end(), Real(0));
   std::fill(state_.v_prev.begin(), state_.v_prev.end(), Real(0));
+}
+
+template <class Real>
+Checkpoint Simulation<Real>::checkpoint(int frame) const {
+  Checkpoint c;
+  c.num_ranks = local_.num_ranks;
+  c.rank = local_.rank;
+  c.frame = frame;
+  c.num_global_vertices = num_global_vertices_;
+  c.num_global_tets = num_global_tets_;
+  c.time = state_.time;
+  c.alpha = solver_.alpha();
+  c.q.assign(state_.q.begin(), state_.q.end());
+  c.v.assign(state_.v.begin(), state_.v.end());
+  c.v_prev.assign(state_.v_prev.begin(), state_.v_prev.end());
+  c.interpolants.assign(problem_.interpolants().begin(), problem_.interpolants().end());
+  return c;
+}
+
+template <class Real>
+void Simulation<Real>::restore(const Checkpoint& c) {
+  const bool same_run = c.num_ranks == local_.num_ranks && c.rank == local_.rank &&
+                        c.num_global_vertices == num_global_vertices_ &&
+                        c.num_global_tets == num_global_tets_ && c.q.size() == state_.q.size() &&
+                        c.interpolants.size() == problem_.interpolants().size();
+  if (!same_run) {
+    throw InputError(detail::concat(
+        "the checkpoint of rank ", c.rank, " of ", c.num_ranks, " (", c.num_global_vertices,
+        " vertices, ", c.num_global_tets, " tets) does not belong to this run (rank ", local_.rank,
+        " of ", local_.num_ranks, ", ", num_global_vertices_, " vertices, ", num_global_tets_,
+        " tets): restart with the same scene and rank count"));
+  }
+  state_.q.assign(c.q.begin(), c.q.end());
+  state_.v.assign(c.v.begin(), c.v.end());
+  state_.v_prev.assign(c.v_prev.begin(), c.v_prev.end());
+  state_.time = c.time;
+  solver_.set_alpha(c.alpha);
+  problem_.set_interpolants(std::vector<Real>(c.interpolants.begin(), c.interpolants.end()));
 }
 
 template <class Real>

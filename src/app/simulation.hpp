@@ -12,6 +12,7 @@
 #include "comm/halo.hpp"
 #include "comm/reduction.hpp"
 #include "common/mesh.hpp"
+#include "io/checkpoint.hpp"
 #include "io/scene.hpp"
 #include "partition/partition.hpp"
 #include "solver/chebyshev_descent.hpp"
@@ -31,6 +32,11 @@ class Simulation {
   // at rest velocity): for recovery tests and restarts.
   void set_positions(const std::vector<double>& global_xyz);
 
+  // This rank's whole solver state after `frame`, and back (a checkpoint of
+  // another mesh, rank or rank count is an InputError).
+  Checkpoint checkpoint(int frame) const;
+  void restore(const Checkpoint& checkpoint);
+
   const LocalMesh& local_mesh() const { return local_; }
   const LocalProblem<Real>& problem() const { return problem_; }
   const BodyState<Real>& state() const { return state_; }
@@ -49,6 +55,8 @@ class Simulation {
 
  private:
   Scene scene_;
+  long long num_global_vertices_;
+  long long num_global_tets_;
   std::vector<std::string> measurement_names_;
   std::vector<int> tet_part_;
   LocalMesh local_;

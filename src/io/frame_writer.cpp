@@ -218,7 +218,10 @@ std::string xdmf_document(const std::string& grids) {
 }  // namespace
 
 struct FrameWriter::Impl {
-  Impl(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout);
+  Impl(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout, int resume_after);
+  // Resuming: drops frames after `last` from the file (a killed run may have
+  // written past its last checkpoint) and rebuilds the XDMF list up to it.
+  void resume(int last);
   void verify_layout(const FrameWriterLayout& layout,
                      std::span<const index_t> sorted_tet_ids) const;
   void create_output_directory() const;
@@ -241,7 +244,8 @@ struct FrameWriter::Impl {
   Hid collective_transfer;
 };
 
-FrameWriter::Impl::Impl(MPI_Comm comm_, const std::string& dir_, const FrameWriterLayout& layout)
+FrameWriter::Impl::Impl(MPI_Comm comm_, const std::string& dir_, const FrameWriterLayout& layout,
+                        int resume_after)
     : comm(comm_),
       dir(dir_),
       num_vertices(layout.num_global_vertices),
@@ -260,17 +264,58 @@ FrameWriter::Impl::Impl(MPI_Comm comm_, const std::string& dir_, const FrameWrit
     check(H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL), "H5Pset_fapl_mpio", h5);
     // Default format bounds on purpose: the newest superblock marks a file as
     // open for writing, and a killed run would leave it unreadable without h5clear.
-    file = owned(H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose,
-                 "H5Fcreate", h5);
+    file = resume_after >= 0
+               ? owned(H5Fopen(h5.c_str(), H5F_ACC_RDWR, access.get()), H5Fclose, "H5Fopen", h5)
+               : owned(H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose,
+                       "H5Fcreate", h5);
   }
   collective_transfer = owned(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "H5Pcreate", h5);
   check(H5Pset_dxpl_mpio(collective_transfer.get(), H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio", h5);
+  if (resume_after >= 0) {
+    resume(resume_after);
+    return;
+  }
 
   write_mesh(layout, tet_order, sorted_tet_ids);
   // Created empty; each frame adds its group here.
   Hid frames = owned(H5Gcreate2(file.get(), "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                      H5Gclose, "H5Gcreate2", h5 + ":/frames");
   check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush", h5);
+}
+
+namespace {
+herr_t collect_name(hid_t, const char* name, const H5L_info_t*, void* names) {
+  static_cast<std::vector<std::string>*>(names)->emplace_back(name);
+  return 0;
+}
+}  // namespace
+
+void FrameWriter::Impl::resume(int last) {
+  const std::string h5 = (dir / kH5Name).string();
+  Hid frames =
+      owned(H5Gopen2(file.get(), "/frames", H5P_DEFAULT), H5Gclose, "H5Gopen2", h5 + ":/frames");
+  std::vector<std::string> names;  // zero-padded, so by name is by frame
+  check(H5Literate(frames.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_name, &names),
+        "H5Literate", h5 + ":/frames");
+  for (const std::string& name : names) {
+    const std::string where = h5 + ":/frames/" + name;
+    if (std::stoi(name) > last) {
+      check(H5Ldelete(frames.get(), name.c_str(), H5P_DEFAULT), "H5Ldelete", where);
+      continue;
+    }
+    if (rank != 0) continue;
+    Hid attribute =
+        owned(H5Aopen_by_name(frames.get(), name.c_str(), "time", H5P_DEFAULT, H5P_DEFAULT),
+              H5Aclose, "H5Aopen_by_name", where + " attribute time");
+    double time = 0;
+    check(H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, &time), "H5Aread", where);
+    xdmf_grids += xdmf_grid(std::stoi(name), time, num_vertices, num_tets);
+  }
+  check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush", h5);
+  int error = 0;
+  if (rank == 0) error = write_file_atomically(dir / kXdmfName, xdmf_document(xdmf_grids));
+  throw_on_every_rank_if_failed(comm, error,
+                                detail::concat("cannot write ", (dir / kXdmfName).string()));
 }
 
 // Each rank checks its own part; the summed counts show that the parts cover
@@ -370,8 +415,9 @@ void FrameWriter::Impl::write_frame(int frame, double time,
                                 detail::concat("cannot write ", (dir / kXdmfName).string()));
 }
 
-FrameWriter::FrameWriter(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout)
-    : impl_(std::make_unique<Impl>(comm, dir, layout)) {}
+FrameWriter::FrameWriter(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout,
+                         int resume_after)
+    : impl_(std::make_unique<Impl>(comm, dir, layout, resume_after)) {}
 
 FrameWriter::~FrameWriter() = default;
 

@@ -42,7 +42,11 @@ class FrameWriter {
   // before MPI_Finalize, which shuts HDF5 down. Creates DIR (and parents) if
   // needed; the caller decides beforehand whether an existing DIR may be reused
   // (its frames.h5 is truncated, its frames.xdmf removed).
-  FrameWriter(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout);
+  // With resume_after >= 0 the existing DIR/frames.h5 is reopened instead:
+  // frames after resume_after are dropped (a killed run may have written past
+  // its checkpoint) and the XDMF index is rebuilt; the mesh must be the same.
+  FrameWriter(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout,
+              int resume_after = -1);
   ~FrameWriter();
   FrameWriter(const FrameWriter&) = delete;
   FrameWriter& operator=(const FrameWriter&) = delete;
@@ -83,8 +87,10 @@ class StatsWriter {
   // rank 0 of comm (other ranks hold nothing); throws on every rank if rank 0 cannot.
   // `extra_columns` follow the fixed ones (per-region measurements); each row
   // then carries one value per extra column in FrameStats::extra.
+  // With resume_after >= 0 the existing DIR/stats.csv is kept up to that
+  // frame and appended to (its columns must be the same).
   StatsWriter(MPI_Comm comm, const std::string& dir,
-              const std::vector<std::string>& extra_columns = {});
+              const std::vector<std::string>& extra_columns = {}, int resume_after = -1);
   ~StatsWriter();
   StatsWriter(const StatsWriter&) = delete;
   StatsWriter& operator=(const StatsWriter&) = delete;

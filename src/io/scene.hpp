@@ -113,6 +113,9 @@ struct SolverSpec {
 struct OutputSpec {
   std::string dir = "out";
   int every = 1;  // write every n-th frame
+  // Write a checkpoint (for --restart) every n-th frame and after the last;
+  // 0: never.
+  int checkpoint_every = 10;
 };
 
 struct Scene {

@@ -247,6 +247,8 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
     throw InputError(detail::concat(doc.where("output.dir"), ": output.dir must not be empty"));
   }
   require(doc, scene.output.every >= 1, "output.every", ">= 1", scene.output.every);
+  require(doc, scene.output.checkpoint_every >= 0, "output.checkpoint_every", ">= 0",
+          scene.output.checkpoint_every);
 }
 
 }  // namespace descent

@@ -70,6 +70,7 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
 
   visit("output.dir", scene.output.dir);
   visit("output.every", scene.output.every);
+  visit("output.checkpoint_every", scene.output.checkpoint_every);
 }
 
 // The scene's arrays of tables ([[fixed]], [[load]]): calls

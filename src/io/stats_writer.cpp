@@ -2,7 +2,9 @@
 // run killed mid-way keeps every completed frame.
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <system_error>
 
@@ -30,6 +32,30 @@ std::string format_ms(double ms) {
   return text;
 }
 
+// Resuming: keeps the header and the rows of frames up to `last` (a killed
+// run may have written past its checkpoint). Returns an errno value; EINVAL
+// when the file's columns are not the run's.
+int keep_rows_up_to(const fs::path& path, const std::string& header, int last) {
+  std::ifstream in(path);
+  if (!in) return ENOENT;
+  std::string line, kept;
+  if (!std::getline(in, line) || line + "\n" != header) return EINVAL;
+  kept = header;
+  while (std::getline(in, line)) {
+    if (line.empty() || std::atoi(line.c_str()) > last) break;
+    kept += line + "\n";
+  }
+  in.close();
+  const fs::path temporary = path.string() + ".tmp";
+  std::ofstream out(temporary, std::ios::trunc);
+  out << kept;
+  out.close();
+  if (!out) return EIO;
+  std::error_code renamed;
+  fs::rename(temporary, path, renamed);
+  return renamed.value();
+}
+
 }  // namespace
 
 struct StatsWriter::Impl {
@@ -41,7 +67,7 @@ struct StatsWriter::Impl {
 // Collective over comm: rank 0 tells every rank whether it could open the file,
 // so that all ranks throw together instead of the others waiting for rank 0.
 StatsWriter::StatsWriter(MPI_Comm comm, const std::string& dir,
-                         const std::vector<std::string>& extra_columns)
+                         const std::vector<std::string>& extra_columns, int resume_after)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = fs::path(dir) / kStatsName;
   impl_->extra_columns = extra_columns.size();
@@ -56,6 +82,10 @@ StatsWriter::StatsWriter(MPI_Comm comm, const std::string& dir,
     fs::create_directories(dir, created);
     if (created) {
       error = created.value();
+    } else if (resume_after >= 0) {
+      error = keep_rows_up_to(impl_->path, header, resume_after);
+      if (error == 0) impl_->file.reset(std::fopen(impl_->path.c_str(), "a"));
+      if (error == 0 && !impl_->file) error = errno != 0 ? errno : EIO;
     } else {
       impl_->file.reset(std::fopen(impl_->path.c_str(), "w"));
       if (!impl_->file || std::fputs(header.c_str(), impl_->file.get()) < 0 ||

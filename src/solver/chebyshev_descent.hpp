@@ -41,6 +41,10 @@ class ChebyshevDescent {
   ChebyshevDescent(LocalProblem<Real>& problem, const SolverSpec& spec);
   StepStats step(BodyState<Real>& state);
 
+  // The step length carried from step to step (part of a checkpoint).
+  double alpha() const { return alpha_; }
+  void set_alpha(double alpha) { alpha_ = alpha; }
+
   // LocalProblem::local_region_sums at the end of the last step (the
   // reaction is the gradient of that step's potential).
   std::vector<double> local_region_sums() {

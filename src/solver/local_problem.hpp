@@ -76,6 +76,7 @@ class LocalProblem {
 
   // Conversion interpolants per local tet (empty without conversion).
   const std::vector<Real>& interpolants() const { return interpolant_; }
+  void set_interpolants(std::vector<Real> values) { interpolant_ = std::move(values); }
 
   // Sums of `count` (1 or 2) local energies over all ranks: the one collective.
   EnergySums global_energies(const Energy* local, int count) {

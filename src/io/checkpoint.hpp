@@ -1,0 +1,41 @@
+#pragma once
+// Checkpoints for restarting a killed run: one file per rank,
+// DIR/checkpoint/rank-R-of-P.bin, holding that rank's whole solver state, so
+// a restart on the same rank count continues bit for bit.
+//
+// File layout (native byte order, doubles IEEE 754):
+//   "descent-checkpoint-1\n"        magic and version
+//   int32  num_ranks, rank, frame
+//   int64  num_global_vertices, num_global_tets, local dofs, local tets
+//   double time, alpha
+//   double q[dofs], v[dofs], v_prev[dofs], interpolants[tets or 0]
+// Written to a temporary file and renamed, so a kill never leaves half a file.
+#include <string>
+#include <vector>
+
+#include "common/mesh.hpp"
+
+namespace descent {
+
+struct Checkpoint {
+  int num_ranks = 1;
+  int rank = 0;
+  int frame = 0;  // the last completed frame
+  long long num_global_vertices = 0;
+  long long num_global_tets = 0;
+  double time = 0;
+  double alpha = 0;
+  std::vector<double> q, v, v_prev;  // 3 per local vertex
+  std::vector<double> interpolants;  // per local tet; empty without conversion
+};
+
+std::string checkpoint_path(const std::string& dir, int rank, int num_ranks);
+
+// Throws InputError naming the path when it cannot be written.
+void write_checkpoint(const std::string& path, const Checkpoint& checkpoint);
+
+// Throws InputError naming the path when it is missing, truncated or not a
+// checkpoint.
+Checkpoint read_checkpoint(const std::string& path);
+
+}  // namespace descent
