@@ -37,6 +37,7 @@ int main_with_mpi(int argc, char** argv) {
   bool overwrite = false;
   bool restart = false;
   int threads = 0;
+  std::string precision = "double";
 
   CLI::App* run =
       app.add_subcommand("run", "Simulate a scene (default: the built-in double helix)");
@@ -49,6 +50,8 @@ int main_with_mpi(int argc, char** argv) {
                 "Reuse an output directory holding an earlier run (default: write to DIR.1, ...)");
   run->add_flag("--restart", restart,
                 "Continue the run in the output directory from its last checkpoint");
+  run->add_option("--precision", precision, "Real type of the solver (default: double)")
+      ->check(CLI::IsMember({"float", "double"}));
   run->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
       ->check(CLI::PositiveNumber);
 
@@ -76,6 +79,7 @@ int main_with_mpi(int argc, char** argv) {
       options.quiet = quiet;
       options.overwrite = overwrite;
       options.restart = restart;
+      options.precision = precision;
       return agree(MPI_COMM_WORLD, [&] { return run_scene(MPI_COMM_WORLD, scene, options); });
     }
     agree(MPI_COMM_WORLD, [&] {

@@ -67,9 +67,20 @@ std::string output_directory(MPI_Comm comm, const std::string& dir, bool overwri
   return chosen;
 }
 
+template <class Real>
+int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options);
+
 }  // namespace
 
 int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
+  return options.precision == "float" ? run_scene_in<float>(comm, scene, options)
+                                      : run_scene_in<double>(comm, scene, options);
+}
+
+namespace {
+
+template <class Real>
+int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -79,14 +90,14 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   const Mesh mesh = build_scene_mesh(scene.mesh, &report);
   if (talk) {
     for (const auto& w : report.warnings) std::printf("warning: %s\n", w.c_str());
-    std::printf("descent: %s: %d vertices, %d tets on %d rank(s) x %d thread(s)\n",
+    std::printf("descent: %s: %d vertices, %d tets on %d rank(s) x %d thread(s), %s\n",
                 mesh.source.c_str(), mesh.num_vertices(), mesh.num_tets(), size,
-                omp_get_max_threads());
+                omp_get_max_threads(), sizeof(Real) == 4 ? "float" : "double");
   }
 
   if (talk) report_fixed_regions(scene, mesh);
 
-  Simulation<double> sim(comm, scene, mesh);
+  Simulation<Real> sim(comm, scene, mesh);
   if (talk && size > 1)
     std::printf("%s\n", describe(partition_quality(mesh, sim.tet_part(), size)).c_str());
 
@@ -191,5 +202,7 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   }
   return 0;
 }
+
+}  // namespace
 
 }  // namespace descent

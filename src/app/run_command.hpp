@@ -17,6 +17,7 @@ struct RunOptions {
   // Continue a killed run from its last checkpoint in output.dir (same scene,
   // same rank count): frames and stats after the checkpoint are replaced.
   bool restart = false;
+  std::string precision = "double";  // or "float": the solver's real type
 };
 
 // Returns the process exit code (0 on success). Collective.
