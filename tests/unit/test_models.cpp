@@ -23,6 +23,7 @@
 #include "kernels/mooney_rivlin.hpp"
 #include "kernels/neo_hookean.hpp"
 #include "kernels/stvk.hpp"
+#include "random_rotation.hpp"
 
 namespace descent {
 
@@ -140,16 +141,7 @@ Mat3<double> random_f(Rng& rng, double amp, double det_min = 0.2, double det_max
   }
 }
 
-// Uniformly distributed rotation from a normalised Gaussian quaternion.
-Mat3<double> random_rotation(Rng& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  double w = n(rng), x = n(rng), y = n(rng), z = n(rng);
-  const double len = std::sqrt(w * w + x * x + y * y + z * z);
-  w /= len, x /= len, y /= len, z /= len;
-  return {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y), 2 * (x * y + w * z),
-           1 - 2 * (x * x + z * z), 2 * (y * z - w * x), 2 * (x * z - w * y), 2 * (y * z + w * x),
-           1 - 2 * (x * x + y * y)}};
-}
+using testing::random_rotation;
 
 // Error relative to the larger of the entry and `scale` (the norm of the
 // whole stress or Hessian, so tiny entries are not judged by round-off).

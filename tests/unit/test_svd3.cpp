@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "kernels/svd3.hpp"
+#include "random_rotation.hpp"
 
 namespace descent {
 namespace {
@@ -43,16 +44,7 @@ Mat3<Real> diagonal(Real x, Real y, Real z) {
   return {{x, 0, 0, 0, y, 0, 0, 0, z}};
 }
 
-// Uniformly distributed rotation from a normalised Gaussian quaternion.
-Mat3<double> random_rotation(Rng& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  double w = n(rng), x = n(rng), y = n(rng), z = n(rng);
-  const double len = std::sqrt(w * w + x * x + y * y + z * z);
-  w /= len, x /= len, y /= len, z /= len;
-  return {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y), 2 * (x * y + w * z),
-           1 - 2 * (x * x + z * z), 2 * (y * z - w * x), 2 * (x * z - w * y), 2 * (y * z + w * x),
-           1 - 2 * (x * x + y * y)}};
-}
+using testing::random_rotation;
 
 Mat3<double> uniform_matrix(Rng& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
