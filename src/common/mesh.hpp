@@ -11,6 +11,10 @@ namespace descent {
 
 using index_t = std::int32_t;  // vertex and tet indices; 2^31 tets is far beyond one run
 
+// The four faces of a tet as corner indices, opposite corners 0..3, each
+// ordered counter-clockwise seen from outside a positively oriented tet.
+inline constexpr int kTetFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
 struct Mesh {
   std::vector<double> positions;
   std::vector<index_t> tets;

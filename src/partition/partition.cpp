@@ -89,9 +89,8 @@ PartitionQuality partition_quality(const Mesh& mesh, std::span<const int> tet_pa
   std::unordered_map<std::uint64_t, int> face_part;
   face_part.reserve(mesh.tets.size());
   const index_t nv = mesh.num_vertices();
-  static constexpr int kFaces[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
   for (index_t t = 0; t < mesh.num_tets(); ++t) {
-    for (const auto& f : kFaces) {
+    for (const auto& f : kTetFaces) {
       std::array<std::uint64_t, 3> v{};
       for (int k = 0; k < 3; ++k) v[k] = static_cast<std::uint64_t>(mesh.tets[4 * t + f[k]]);
       std::sort(v.begin(), v.end());

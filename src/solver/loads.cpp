@@ -8,12 +8,11 @@
 namespace descent {
 
 std::vector<Face> boundary_faces(const Mesh& mesh) {
-  static constexpr int kFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
   // Sort the faces by their sorted vertex triple: a boundary face appears once.
   std::vector<std::pair<Face, Face>> all;  // (sorted key, face as in the tet)
   all.reserve(4 * static_cast<std::size_t>(mesh.num_tets()));
   for (index_t t = 0; t < mesh.num_tets(); ++t) {
-    for (const auto& f : kFaces) {
+    for (const auto& f : kTetFaces) {
       Face face{mesh.tets[4 * t + f[0]], mesh.tets[4 * t + f[1]], mesh.tets[4 * t + f[2]]};
       Face key = face;
       std::sort(key.begin(), key.end());
