@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -112,18 +113,22 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   layout.tet_ids = tets.ids;
   layout.tet_vertices = tets.vertices;
   layout.owned_rest_positions = rest;
-  // A restart continues in place from this rank's checkpoint; ranks agree on
-  // the frame (one checkpoint set, written together).
+  // A restart continues in place from the newest frame every rank has a
+  // checkpoint of (a kill between two ranks' writes leaves some one newer).
   int first_frame = 1;
   if (options.restart) {
-    const Checkpoint checkpoint = read_checkpoint(checkpoint_path(scene.output.dir, rank, size));
-    sim.restore(checkpoint);
-    int frames[2] = {checkpoint.frame, -checkpoint.frame};
-    MPI_Allreduce(MPI_IN_PLACE, frames, 2, MPI_INT, MPI_MAX, comm);
-    if (frames[0] != -frames[1])
-      throw InputError("the checkpoints in " + scene.output.dir + " are from different frames");
-    first_frame = checkpoint.frame + 1;
-    if (talk) std::printf("descent: restarting after frame %d\n", checkpoint.frame);
+    const std::vector<Checkpoint> generations =
+        read_checkpoint_generations(checkpoint_path(scene.output.dir, rank, size));
+    int frame = generations.front().frame;
+    MPI_Allreduce(MPI_IN_PLACE, &frame, 1, MPI_INT, MPI_MIN, comm);
+    const auto chosen = std::find_if(generations.begin(), generations.end(),
+                                     [frame](const Checkpoint& c) { return c.frame == frame; });
+    if (chosen == generations.end())
+      throw InputError(detail::concat("rank ", rank, " has no checkpoint of frame ", frame, " in ",
+                                      scene.output.dir, "/checkpoint"));
+    sim.restore(*chosen);
+    first_frame = frame + 1;
+    if (talk) std::printf("descent: restarting after frame %d\n", frame);
   }
   const std::string out_dir = options.restart
                                   ? scene.output.dir

@@ -74,7 +74,8 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     if (!out) throw InputError("cannot write checkpoint " + temporary);
   }
   std::error_code renamed;
-  fs::rename(temporary, path, renamed);
+  if (fs::exists(path)) fs::rename(path, path + ".prev", renamed);
+  if (!renamed) fs::rename(temporary, path, renamed);
   if (renamed) throw InputError("cannot write checkpoint " + path + ": " + renamed.message());
 }
 
@@ -99,6 +100,14 @@ Checkpoint read_checkpoint(const std::string& path) {
   c.v_prev = get_array(in, dofs, path);
   c.interpolants = get_array(in, tets, path);
   return c;
+}
+
+std::vector<Checkpoint> read_checkpoint_generations(const std::string& path) {
+  std::vector<Checkpoint> found;
+  for (const std::string& candidate : {path, path + ".prev"})
+    if (fs::exists(candidate)) found.push_back(read_checkpoint(candidate));
+  if (found.empty()) return {read_checkpoint(path)};  // throws, naming the path
+  return found;
 }
 
 }  // namespace descent

@@ -9,7 +9,10 @@
 //   int64  num_global_vertices, num_global_tets, local dofs, local tets
 //   double time, alpha
 //   double q[dofs], v[dofs], v_prev[dofs], interpolants[tets or 0]
-// Written to a temporary file and renamed, so a kill never leaves half a file.
+// Written to a temporary file and renamed, so a kill never leaves half a file;
+// the previous checkpoint is kept as PATH.prev, because ranks write theirs
+// one after another and a kill between two ranks' writes leaves some ranks a
+// checkpoint newer than the others.
 #include <string>
 #include <vector>
 
@@ -37,5 +40,9 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint);
 // Throws InputError naming the path when it is missing, truncated or not a
 // checkpoint.
 Checkpoint read_checkpoint(const std::string& path);
+
+// The checkpoints of PATH and PATH.prev that exist, newest first; an
+// InputError when neither does.
+std::vector<Checkpoint> read_checkpoint_generations(const std::string& path);
 
 }  // namespace descent
