@@ -94,7 +94,7 @@ Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh
       halo_(comm, local_),
       reduction_(comm),
       problem_(local_, scene, halo_, reduction_, scene_load_weights(scene, mesh)),
-      solver_(problem_, scene.solver),
+      solver_(make_stepper(problem_, scene.solver)),
       state_(rest_state<Real>(local_)) {}
 
 template <class Real>
@@ -115,7 +115,7 @@ Checkpoint Simulation<Real>::checkpoint(int frame) const {
   c.num_global_vertices = num_global_vertices_;
   c.num_global_tets = num_global_tets_;
   c.time = state_.time;
-  c.alpha = solver_.alpha();
+  c.alpha = solver_->alpha();
   c.q.assign(state_.q.begin(), state_.q.end());
   c.v.assign(state_.v.begin(), state_.v.end());
   c.v_prev.assign(state_.v_prev.begin(), state_.v_prev.end());
@@ -140,14 +140,14 @@ void Simulation<Real>::restore(const Checkpoint& c) {
   state_.v.assign(c.v.begin(), c.v.end());
   state_.v_prev.assign(c.v_prev.begin(), c.v_prev.end());
   state_.time = c.time;
-  solver_.set_alpha(c.alpha);
+  solver_->set_alpha(c.alpha);
   problem_.set_interpolants(std::vector<Real>(c.interpolants.begin(), c.interpolants.end()));
 }
 
 template <class Real>
 std::vector<double> Simulation<Real>::measure() {
   if (measurement_names_.empty()) return {};
-  std::vector<double> sums = solver_.local_region_sums();
+  std::vector<double> sums = solver_->local_region_sums();
   // Elements blending toward arap (l > 0), summed in the same allreduce.
   const auto& interpolants = problem_.interpolants();
   sums.push_back(static_cast<double>(

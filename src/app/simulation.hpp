@@ -15,8 +15,8 @@
 #include "io/checkpoint.hpp"
 #include "io/scene.hpp"
 #include "partition/partition.hpp"
-#include "solver/chebyshev_descent.hpp"
 #include "solver/local_problem.hpp"
+#include "solver/stepper.hpp"
 
 namespace descent {
 
@@ -26,7 +26,7 @@ class Simulation {
   // Collective over comm. Every rank passes the same global mesh.
   Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh);
 
-  StepStats step() { return solver_.step(state_); }
+  StepStats step() { return solver_->step(state_); }
 
   // Starts from positions other than the rest shape (xyz by global vertex id,
   // at rest velocity): for recovery tests and restarts.
@@ -63,7 +63,7 @@ class Simulation {
   Halo<Real> halo_;
   EnergyReduction reduction_;
   LocalProblem<Real> problem_;
-  ChebyshevDescent<Real> solver_;
+  std::unique_ptr<Stepper<Real>> solver_;
   BodyState<Real> state_;
 };
 

@@ -10,44 +10,23 @@
 
 #include "io/scene.hpp"
 #include "solver/local_problem.hpp"
+#include "solver/stepper.hpp"
 
 namespace descent {
 
-// Positions and velocities of one rank's local vertices (xyz-interleaved).
 template <class Real>
-struct BodyState {
-  std::vector<Real> q, v, v_prev;
-  double time = 0;
-};
-
-template <class Real>
-BodyState<Real> rest_state(const LocalMesh& mesh);
-
-struct StepStats {
-  int iterations = 0;
-  int rollbacks = 0;
-  double alpha = 0;           // at the end of the step
-  double initial_energy = 0;  // eps of the initial guess
-  double energy = 0;          // eps at the last accepted check
-  // An accepted check may exceed the previous one by at most this much: the
-  // round-off of evaluating eps (see energy_roundoff), not a real rise.
-  double energy_tolerance = 0;
-  bool stalled = false;  // alpha fell below alpha_min before the iteration budget
-};
-
-template <class Real>
-class ChebyshevDescent {
+class ChebyshevDescent final : public Stepper<Real> {
  public:
   ChebyshevDescent(LocalProblem<Real>& problem, const SolverSpec& spec);
-  StepStats step(BodyState<Real>& state);
+  StepStats step(BodyState<Real>& state) override;
 
   // The step length carried from step to step (part of a checkpoint).
-  double alpha() const { return alpha_; }
-  void set_alpha(double alpha) { alpha_ = alpha; }
+  double alpha() const override { return alpha_; }
+  void set_alpha(double alpha) override { alpha_ = alpha; }
 
   // LocalProblem::local_region_sums at the end of the last step (the
   // reaction is the gradient of that step's potential).
-  std::vector<double> local_region_sums() {
+  std::vector<double> local_region_sums() override {
     return problem_.local_region_sums(q_.data(), y_.data(), qt_.data());
   }
 
