@@ -77,8 +77,16 @@ struct FrameStats {
   double wall_ms = 0;
   double halo_ms = 0;
   double allreduce_ms = 0;
-  int stalled = 0;  // 1: alpha fell below alpha_min and the step ended early
+  int stalled = 0;            // 1: alpha fell below alpha_min and the step ended early
   std::vector<double> extra;  // values of the writer's extra columns, in order
+  // Written after `stalled`, before the extra columns (declared last so
+  // positional initialisers written before they existed still compile).
+  // Checks rolled back because the trial state's energy was not finite:
+  int nonfinite_rollbacks = 0;
+  // How the step ended, worst first: "failed_non_finite" (no finite state
+  // reached: the run stops after this row), "stalled", "rolled_back_non_finite"
+  // (a non-finite trial was rejected, the step went on), "ok".
+  std::string status = "ok";
 };
 
 class StatsWriter {

@@ -19,7 +19,8 @@ namespace fs = std::filesystem;
 
 constexpr const char* kStatsName = "stats.csv";
 constexpr const char* kHeader =
-    "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms,stalled";
+    "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms,stalled,"
+    "nonfinite_rollbacks,status";
 
 struct CloseFile {
   void operator()(std::FILE* file) const { std::fclose(file); }
@@ -109,7 +110,8 @@ void StatsWriter::write(const FrameStats& row) {
   std::string line = detail::concat(
       row.frame, ',', format_double(row.sim_time), ',', row.iterations, ',', row.rollbacks, ',',
       format_double(row.alpha), ',', format_double(row.energy), ',', format_ms(row.wall_ms), ',',
-      format_ms(row.halo_ms), ',', format_ms(row.allreduce_ms), ',', row.stalled);
+      format_ms(row.halo_ms), ',', format_ms(row.allreduce_ms), ',', row.stalled, ',',
+      row.nonfinite_rollbacks, ',', row.status);
   for (double value : row.extra) {
     line += ',';
     line += format_double(value);

@@ -3,6 +3,7 @@
 // the run driver: advance the body by one implicit step of the incremental
 // potential in LocalProblem, and report how the step went. Methods differ
 // only in how they descend on eps; the problem, halo and reduction are shared.
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -24,6 +25,31 @@ struct BodyState {
 template <class Real>
 BodyState<Real> rest_state(const LocalMesh& mesh);
 
+// Where a rank-local scan found the first non-finite value of a state
+// (LocalProblem::find_non_finite). Ids are global (the input mesh's numbering),
+// so a message names the same vertex or tet whatever the rank count.
+struct NonFiniteSite {
+  enum class Kind {
+    none,            // nothing non-finite on this rank
+    position,        // a coordinate of vertex `id`
+    velocity,        // the inertial target y = q_t + h v of vertex `id`
+    element_energy,  // V Psi(F) of tet `id`
+    // Tet `id` is inverted (det F <= 0) and its model is undefined there (the
+    // neo-Hookean family): its energy is +inf by design, the barrier that
+    // makes the step control reject inversion. Expected in a trial; a step
+    // that cannot leave it fails like any other.
+    inverted_element,
+    vertex_energy,  // the inertia/gravity/load/damping term of vertex `id`
+    sum,            // every term finite, their sum not (overflow)
+  };
+  Kind kind = Kind::none;
+  long long id = -1;
+  double value = 0;  // the offending value (coordinate, energy)
+  bool found() const { return kind != Kind::none; }
+};
+
+const char* describe(NonFiniteSite::Kind kind);
+
 struct StepStats {
   int iterations = 0;
   int rollbacks = 0;
@@ -34,6 +60,18 @@ struct StepStats {
   // round-off of evaluating eps (see energy_roundoff), not a real rise.
   double energy_tolerance = 0;
   bool stalled = false;  // alpha fell below alpha_min before the iteration budget
+  // Checks rolled back because the trial state's energy was not finite on
+  // some rank (known on every rank: the count rides in the energy reduction).
+  int nonfinite_rollbacks = 0;
+  // False when no state with finite energy was reached in the whole step: the
+  // body state was then left as it was at the start of the step (the last
+  // good state) and the run must stop.
+  bool finite = true;
+  // This rank's own findings, from a local scan made only when the reduced
+  // count says a state was non-finite (empty on ranks that saw nothing): the
+  // first rolled-back trial of the step, and with finite == false the state
+  // the step could not leave.
+  NonFiniteSite rejected_at, failed_at;
 };
 
 template <class Real>
@@ -49,6 +87,21 @@ class Stepper {
 
   // LocalProblem::local_region_sums at the end of the last step.
   virtual std::vector<double> local_region_sums() = 0;
+
+  // Called with the current iterate after every iteration of a step (and
+  // with k = 0 for the initial guess), for `descent study`: local dofs of q,
+  // the inertial target y and the step-start positions q_t (xyz-interleaved).
+  // Not set in runs; the methods never depend on it.
+  using Observer = std::function<void(int k, const Real* q, const Real* y, const Real* qt)>;
+  void set_observer(Observer observer) { observer_ = std::move(observer); }
+
+ protected:
+  void observe(int k, const Real* q, const Real* y, const Real* qt) const {
+    if (observer_) observer_(k, q, y, qt);
+  }
+
+ private:
+  Observer observer_;
 };
 
 // The method named by spec.method over `problem` (which must outlive it).

@@ -364,7 +364,9 @@ TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
        0.0004,
        3.0,
        1,
-       {1e-300, 7.0}}};
+       {1e-300, 7.0},
+       3,
+       "stalled"}};
   std::string path;
   {
     StatsWriter stats(MPI_COMM_WORLD, dir.path().string(), {"load0_disp_y", "converted"});
@@ -378,11 +380,11 @@ TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
     std::getline(csv, line);
     EXPECT_EQ(line,
               "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms,"
-              "stalled,load0_disp_y,converted");
+              "stalled,nonfinite_rollbacks,status,load0_disp_y,converted");
     for (const FrameStats& row : rows) {
       ASSERT_TRUE(std::getline(csv, line));
       const auto fields = split(line, ',');
-      ASSERT_EQ(fields.size(), 12u) << line;
+      ASSERT_EQ(fields.size(), 14u) << line;
       EXPECT_EQ(std::stoi(fields[0]), row.frame);
       EXPECT_EQ(std::stod(fields[1]), row.sim_time) << "exact round trip";
       EXPECT_EQ(std::stoi(fields[2]), row.iterations);
@@ -393,8 +395,10 @@ TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
       EXPECT_NEAR(std::stod(fields[7]), row.halo_ms, 5e-4);
       EXPECT_NEAR(std::stod(fields[8]), row.allreduce_ms, 5e-4);
       EXPECT_EQ(std::stoi(fields[9]), row.stalled);
-      EXPECT_EQ(std::stod(fields[10]), row.extra[0]) << "exact round trip";
-      EXPECT_EQ(std::stod(fields[11]), row.extra[1]) << "exact round trip";
+      EXPECT_EQ(std::stoi(fields[10]), row.nonfinite_rollbacks);
+      EXPECT_EQ(fields[11], row.status);
+      EXPECT_EQ(std::stod(fields[12]), row.extra[0]) << "exact round trip";
+      EXPECT_EQ(std::stod(fields[13]), row.extra[1]) << "exact round trip";
     }
     EXPECT_FALSE(std::getline(csv, line)) << "one row per write: " << line;
   }
