@@ -30,6 +30,22 @@ EnergySums EnergyReduction::sum(const Energy* local, int count) {
   return sums;
 }
 
+void EnergyReduction::sum_dots(double* values, int count) {
+  const double start = MPI_Wtime();
+  DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, values, count, MPI_DOUBLE, MPI_SUM, comm_));
+  ++counters_.dot_allreduces;
+  counters_.seconds += MPI_Wtime() - start;
+}
+
+double EnergyReduction::max_of(double value) {
+  const double start = MPI_Wtime();
+  double global = value;
+  DESCENT_MPI_CHECK(MPI_Allreduce(&value, &global, 1, MPI_DOUBLE, MPI_MAX, comm_));
+  ++counters_.dot_allreduces;
+  counters_.seconds += MPI_Wtime() - start;
+  return global;
+}
+
 void EnergyReduction::sum_in_place(std::vector<double>& values) {
   if (values.empty()) return;
   DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()),

@@ -26,6 +26,9 @@ struct EnergySums {
 struct ReductionCounters {
   long allreduces = 0;        // energy checks
   long other_allreduces = 0;  // per-frame measurements
+  // Inner products and maxima of methods other than chebyshev (one
+  // MPI_Allreduce each, possibly several values fused).
+  long dot_allreduces = 0;
   double seconds = 0;
 };
 
@@ -37,6 +40,12 @@ class EnergyReduction {
   // Sums `values` over all ranks in place: for per-frame measurements, never
   // inside the iteration loop (counted apart from the energy checks).
   void sum_in_place(std::vector<double>& values);
+
+  // Sums `count` local partial inner products over all ranks in place: one
+  // MPI_Allreduce, counted in dot_allreduces and timed in seconds.
+  void sum_dots(double* values, int count);
+  // The maximum of `value` over all ranks: one MPI_Allreduce, counted as a dot.
+  double max_of(double value);
 
   const ReductionCounters& counters() const { return counters_; }
 

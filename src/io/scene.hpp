@@ -32,7 +32,7 @@ struct ConversionSpec {
 struct MaterialSpec {
   // stvk, neo_hookean, mooney_rivlin, fung, corotated, arap (DESIGN §1)
   std::string model = "neo_hookean";
-  double young = 1.0e5;   // Pa
+  double young = 1.0e5;  // Pa
   double poisson = 0.3;
   double density = 1000;  // kg/m^3
   double c2 = 0;          // Pa: mooney_rivlin and fung
@@ -53,8 +53,8 @@ inline bool in_box(const std::array<double, 3>& lo, const std::array<double, 3>&
 //   translate: x(t) = X + velocity * min(t, until)
 //   rotate:    x(t) = centre + Rot(axis, angular_velocity * min(t, until)) (X - centre)
 struct Motion {
-  std::string kind = "none";  // none, translate, rotate
-  std::array<double, 3> velocity{};          // m/s
+  std::string kind = "none";                  // none, translate, rotate
+  std::array<double, 3> velocity{};           // m/s
   std::array<double, 3> axis{0.0, 1.0, 0.0};  // rotation axis (normalised on use)
   std::array<double, 3> centre{};             // a point on the rotation axis
   double angular_velocity = 0;                // rad/s
@@ -105,9 +105,27 @@ struct SolverSpec {
   double gamma = 0.7;         // step shrink factor on a failed check
   double alpha_max = 1.0;
   double alpha_min = 1.0e-3;
-  std::string init = "constant_acceleration";  // "position", "velocity", "constant_acceleration"
+  // "position", "velocity", "constant_acceleration", "optimized" (Eq. 10:
+  // one more MPI_Allreduce per step)
+  std::string init = "constant_acceleration";
   double eta = 0.2;      // weight of the acceleration term in that initialisation
   double damping = 0.0;  // air damping c (1/s), Eq. 20
+  // Chebyshev phases (paper 1, §4.3; solver/methods/chebyshev_phases.hpp):
+  // rho per phase and the lengths of all but the last; empty: one phase, rho.
+  std::vector<double> phase_rho;
+  std::vector<int> phase_lengths;
+  int history = 5;  // lbfgs: pairs (s, y) kept
+  // newton: stop at |grad| <= newton_tolerance |grad(q0)| or after
+  // newton_iterations; each linear solve (PCG) to |r| <= cg_tolerance |b|.
+  double newton_tolerance = 1e-10;
+  // "fallback": exact element Hessians, the PSD-projected ones for any Newton
+  // iteration whose exact system is not positive definite along CG's path or
+  // gives no descent; "always": projected throughout (linear convergence
+  // wherever an element's exact Hessian is indefinite at the solution).
+  std::string newton_projection = "fallback";
+  int newton_iterations = 50;
+  double cg_tolerance = 1e-10;
+  int cg_iterations = 20000;
 };
 
 struct OutputSpec {

@@ -221,7 +221,37 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require(doc, scene.time.frames >= 0, "time.frames", ">= 0", scene.time.frames);
 
   const SolverSpec& solver = scene.solver;
-  require_one_of(doc, "solver.method", solver.method, {"chebyshev"});
+  require_one_of(
+      doc, "solver.method", solver.method,
+      {"chebyshev", "gd", "jacobi_gd", "nesterov", "ncg", "lbfgs", "newton", "pd_chebyshev"});
+  // Projective dynamics is defined for the arap energy only (its constant
+  // global matrix comes from |F - R|^2).
+  if (solver.method == "pd_chebyshev" &&
+      (scene.material.model != "arap" || scene.material.conversion.enabled))
+    throw InputError(detail::concat(doc.where("solver.method"),
+                                    ": solver.method = pd_chebyshev needs material.model = "
+                                    "\"arap\" and material.conversion.enabled = false"));
+  // Methods that use the elastic Hessian know nothing of conversion's hybrid
+  // energy (its interpolants move with every gradient evaluation).
+  if ((solver.method == "ncg" || solver.method == "newton") && scene.material.conversion.enabled)
+    throw InputError(detail::concat(doc.where("solver.method"), ": solver.method = ", solver.method,
+                                    " needs material.conversion.enabled = false"));
+  for (double rho : solver.phase_rho)
+    require(doc, rho >= 0 && rho < 1, "solver.phase_rho", "in [0, 1) for every phase", rho);
+  for (int length : solver.phase_lengths)
+    require(doc, length >= 1, "solver.phase_lengths", ">= 1 for every phase", length);
+  if (!solver.phase_rho.empty() && solver.phase_lengths.size() + 1 != solver.phase_rho.size())
+    throw InputError(detail::concat(doc.where("solver.phase_lengths"),
+                                    ": solver.phase_lengths needs one length fewer than "
+                                    "solver.phase_rho has phases (the last runs to the end)"));
+  require(doc, solver.history >= 1, "solver.history", ">= 1", solver.history);
+  require(doc, solver.newton_tolerance > 0, "solver.newton_tolerance", "> 0",
+          solver.newton_tolerance);
+  require(doc, solver.newton_iterations >= 1, "solver.newton_iterations", ">= 1",
+          solver.newton_iterations);
+  require_one_of(doc, "solver.newton_projection", solver.newton_projection, {"fallback", "always"});
+  require(doc, solver.cg_tolerance > 0, "solver.cg_tolerance", "> 0", solver.cg_tolerance);
+  require(doc, solver.cg_iterations >= 1, "solver.cg_iterations", ">= 1", solver.cg_iterations);
   require(doc, solver.iterations >= 1, "solver.iterations", ">= 1", solver.iterations);
   require(doc, solver.rho >= 0 && solver.rho < 1, "solver.rho", "in [0, 1)", solver.rho);
   require(doc, solver.chebyshev_delay >= 0, "solver.chebyshev_delay", ">= 0",
@@ -239,7 +269,7 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
         ") must not exceed solver.alpha_max (", format_number(solver.alpha_max), ")"));
   }
   require_one_of(doc, "solver.init", solver.init,
-                 {"constant_acceleration", "position", "velocity"});
+                 {"constant_acceleration", "position", "velocity", "optimized"});
   require(doc, solver.eta >= 0, "solver.eta", ">= 0", solver.eta);
   require(doc, solver.damping >= 0, "solver.damping", ">= 0", solver.damping);
 

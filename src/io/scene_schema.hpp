@@ -67,6 +67,14 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("solver.init", solver.init);
   visit("solver.eta", solver.eta);
   visit("solver.damping", solver.damping);
+  visit("solver.phase_rho", solver.phase_rho);
+  visit("solver.phase_lengths", solver.phase_lengths);
+  visit("solver.history", solver.history);
+  visit("solver.newton_tolerance", solver.newton_tolerance);
+  visit("solver.newton_iterations", solver.newton_iterations);
+  visit("solver.newton_projection", solver.newton_projection);
+  visit("solver.cg_tolerance", solver.cg_tolerance);
+  visit("solver.cg_iterations", solver.cg_iterations);
 
   visit("output.dir", scene.output.dir);
   visit("output.every", scene.output.every);

@@ -90,6 +90,31 @@ void read_value(const SceneDocument& doc, const toml::node& node, const std::str
   }
 }
 
+void read_value(const SceneDocument& doc, const toml::node& node, const std::string& key,
+                std::vector<double>& field) {
+  const toml::array* array = node.as_array();
+  if (!array) throw_wrong_value(doc, node, key, "an array of numbers");
+  field.clear();
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const std::optional<double> value = number_of(*array->get(i));
+    if (!value || !std::isfinite(*value))
+      throw_wrong_value(doc, node, key, "an array of finite numbers");
+    field.push_back(*value);
+  }
+}
+
+void read_value(const SceneDocument& doc, const toml::node& node, const std::string& key,
+                std::vector<int>& field) {
+  const toml::array* array = node.as_array();
+  if (!array) throw_wrong_value(doc, node, key, "an array of integers");
+  field.clear();
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const std::optional<int> value = int_of(*array->get(i));
+    if (!value) throw_wrong_value(doc, node, key, "an array of integers");
+    field.push_back(*value);
+  }
+}
+
 SceneFields read_scene_fields(const SceneDocument& doc) {
   SceneFields fields;
   visit_scene_keys(fields, [&doc](std::string_view key, auto& field) {

@@ -4,6 +4,7 @@
 // "<where>: <key> must be <expected>, got <found>".
 #include <array>
 #include <string>
+#include <vector>
 
 #include "io/scene_document.hpp"
 #include "io/scene_schema.hpp"
@@ -27,6 +28,12 @@ void read_value(const SceneDocument& doc, const toml::node& node, const std::str
 // Exactly 3 integers.
 void read_value(const SceneDocument& doc, const toml::node& node, const std::string& key,
                 std::array<int, 3>& field);
+
+// Any number of finite numbers / of integers (Chebyshev phases).
+void read_value(const SceneDocument& doc, const toml::node& node, const std::string& key,
+                std::vector<double>& field);
+void read_value(const SceneDocument& doc, const toml::node& node, const std::string& key,
+                std::vector<int>& field);
 
 // Every key of the schema present in `doc`, read into its field; the rest
 // keep their defaults. Expects the keys checked by reject_unknown_keys.

@@ -1,10 +1,13 @@
 #include "solver/chebyshev_descent.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "common/error.hpp"
 #include "kernels/vertex.hpp"
+#include "solver/methods/chebyshev_phases.hpp"
+#include "solver/methods/optimized_init.hpp"
 
 namespace descent {
 
@@ -49,6 +52,14 @@ void ChebyshevDescent<Real>::initial_guess(const BodyState<Real>& state) {
     y_[k] = qt + h * v;
     q_[k] = qt + h * (w_velocity * v + w_acceleration * (v - state.v_prev[k]));
   }
+  // Eq. 10 (solver/methods/optimized_init.hpp): q_t + d h v, d from y and q_t.
+  if (spec_.init == "optimized") {
+    std::vector<Real> hv(n);
+    for (std::size_t k = 0; k < n; ++k) hv[k] = h * state.v[k];
+    const Real d =
+        static_cast<Real>(optimized_step_weight(problem_, qt_.data(), y_.data(), hv.data()));
+    for (std::size_t k = 0; k < n; ++k) q_[k] = qt_[k] + d * hv[k];
+  }
 }
 
 template <class Real>
@@ -64,7 +75,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   const VertexTerms<Real> terms = problem_.vertex_terms();
   const Real* floor = problem_.diagonal_floor().data();
   const Real* force = problem_.external_force().data();
-  const Real rho2 = static_cast<Real>(spec_.rho * spec_.rho);
+  const ChebyshevPhases phases(spec_);
   const std::size_t n = q_.size();
 
   // The initial guess is the first checked state; its energy is summed with
@@ -83,8 +94,12 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   Real omega = 1;
   int chebyshev_k = 0;  // iterations since the last (re)start of Chebyshev
 
+  this->observe(0, q_.data(), y_.data(), qt_.data());
   for (int k = 0; k < spec_.iterations; ++k) {
     const bool refresh_diagonal = k % spec_.hessian_interval == 0;
+    // A new phase restarts the recurrence, skipping the plain iterations of S.
+    if (phases.starts_phase(k)) chebyshev_k = spec_.chebyshev_delay;
+    const Real rho2 = static_cast<Real>(phases.rho(k) * phases.rho(k));
     const auto assembled = problem_.elastic_gradient(q_.data(), refresh_diagonal);
     if (chebyshev_k < spec_.chebyshev_delay)
       omega = 1;
@@ -114,6 +129,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     std::swap(q_, q_next_);
     ++chebyshev_k;
     stats.iterations = k + 1;
+    this->observe(k + 1, q_.data(), y_.data(), qt_.data());
 
     const bool last = k + 1 == spec_.iterations;
     if ((k + 1) % spec_.check_interval != 0 && !last) continue;
@@ -142,6 +158,13 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
       continue;
     }
     // The energy rose (or is not finite): back to the checked state, shorter step.
+    if (!sums.finite[0]) {
+      ++stats.nonfinite_rollbacks;
+      // Only the rank whose own terms were not finite looks for the culprit.
+      if (!stats.rejected_at.found() &&
+          !(std::isfinite(local[0].value) && std::isfinite(local[0].magnitude)))
+        stats.rejected_at = problem_.find_non_finite(q_.data(), y_.data(), qt_.data());
+    }
     q_ = q_checked_;
     q_prev_ = q_checked_;
     chebyshev_k = 0;
@@ -151,6 +174,18 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
       stats.stalled = true;
       break;
     }
+  }
+
+  // No state with finite energy was reached (e.g. the initial guess was not
+  // finite and no trial was either): the body keeps the step's start, the last
+  // good state, and the caller stops the run. Every rank knows it from the
+  // reduction; each names what it holds that is not finite.
+  if (!checked_finite) {
+    stats.finite = false;
+    stats.failed_at = problem_.find_non_finite(q_checked_.data(), y_.data(), qt_.data());
+    stats.alpha = alpha_;
+    stats.energy = checked_energy;
+    return stats;
   }
 
   const Real inv_h = Real(1) / problem_.dt();

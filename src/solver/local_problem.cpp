@@ -216,6 +216,13 @@ typename LocalProblem<Real>::Assembled LocalProblem<Real>::elastic_gradient(cons
 }
 
 template <class Real>
+void LocalProblem<Real>::assemble_corners(const Real* corner_values, Real* out) {
+  cpu::gather_corners(mesh_.corner_offsets.data(), mesh_.vertex_corners.data(), 0,
+                      mesh_.num_vertices(), corner_values, out, 3);
+  halo_.sum(out, 3);
+}
+
+template <class Real>
 Energy LocalProblem<Real>::local_energy(const Real* q, const Real* y, const Real* qt) const {
   const index_t nt = mesh_.num_tets();
   const cpu::EnergySum elastic = std::visit(

@@ -17,6 +17,7 @@
 #include "kernels/vertex.hpp"
 #include "partition/partition.hpp"
 #include "solver/material.hpp"
+#include "solver/stepper.hpp"
 
 namespace descent {
 
@@ -70,6 +71,13 @@ class LocalProblem {
   // vertices (each vertex counted by one rank). No communication.
   Energy local_energy(const Real* q, const Real* y, const Real* qt) const;
 
+  // The first non-finite value of this rank's share of eps(q) (positions,
+  // inertial targets, element terms, vertex terms, in that order), for a
+  // message naming it; Kind::none when every local term is finite. A serial
+  // scan without communication (solver/non_finite_scan.cpp): called only
+  // after the reduction reported a non-finite energy, never per iteration.
+  NonFiniteSite find_non_finite(const Real* q, const Real* y, const Real* qt) const;
+
   // Whether eps itself changes between iterations of one step (model
   // conversion updates its interpolants at every gradient evaluation).
   bool energy_changes_within_step() const { return converting_; }
@@ -77,6 +85,19 @@ class LocalProblem {
   // Conversion interpolants per local tet (empty without conversion).
   const std::vector<Real>& interpolants() const { return interpolant_; }
   void set_interpolants(std::vector<Real> values) { interpolant_ = std::move(values); }
+
+  // For methods beyond chebyshev (solver/methods/): the rest data and model
+  // the element terms use, corner values (12 per tet, layout of
+  // kernels/cpu/element_loops.hpp) summed to vertices with shared vertices
+  // completed through the halo (3 per vertex, out), and fused global sums of
+  // inner products and a global maximum (each one counted MPI_Allreduce).
+  const std::vector<TetRest<Real>>& rest() const { return rest_; }
+  const ElasticModel<Real>& model() const { return model_; }
+  // The conversion parameters (meaningful when energy_changes_within_step()).
+  const Conversion<Real>& conversion() const { return conversion_; }
+  void assemble_corners(const Real* corner_values, Real* out);
+  void global_dots(double* values, int count) { reduction_.sum_dots(values, count); }
+  double global_max(double value) { return reduction_.max_of(value); }
 
   // Sums of `count` (1 or 2) local energies over all ranks: the one collective.
   EnergySums global_energies(const Energy* local, int count) {

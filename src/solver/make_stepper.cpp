@@ -1,5 +1,11 @@
 #include "common/error.hpp"
 #include "solver/chebyshev_descent.hpp"
+#include "solver/methods/gradient_descent.hpp"
+#include "solver/methods/lbfgs.hpp"
+#include "solver/methods/nesterov.hpp"
+#include "solver/methods/newton.hpp"
+#include "solver/methods/nonlinear_cg.hpp"
+#include "solver/methods/pd_chebyshev.hpp"
 #include "solver/stepper.hpp"
 
 namespace descent {
@@ -7,6 +13,14 @@ namespace descent {
 template <class Real>
 std::unique_ptr<Stepper<Real>> make_stepper(LocalProblem<Real>& problem, const SolverSpec& spec) {
   if (spec.method == "chebyshev") return std::make_unique<ChebyshevDescent<Real>>(problem, spec);
+  if (spec.method == "gd") return std::make_unique<GradientDescent<Real>>(problem, spec, false);
+  if (spec.method == "jacobi_gd")
+    return std::make_unique<GradientDescent<Real>>(problem, spec, true);
+  if (spec.method == "nesterov") return std::make_unique<Nesterov<Real>>(problem, spec);
+  if (spec.method == "ncg") return std::make_unique<NonlinearCg<Real>>(problem, spec);
+  if (spec.method == "lbfgs") return std::make_unique<Lbfgs<Real>>(problem, spec);
+  if (spec.method == "newton") return std::make_unique<Newton<Real>>(problem, spec);
+  if (spec.method == "pd_chebyshev") return std::make_unique<PdChebyshev<Real>>(problem, spec);
   // The scene checks admit only the methods listed here.
   throw LogicError(detail::concat("no stepper for solver.method = ", spec.method));
 }

@@ -619,6 +619,26 @@ TEST(Scene, RangesNameTheKeyAndTheLine) {
              "mesh.helix.tube_radius must be > 0, got -0.1");
 }
 
+TEST(Scene, MethodKeysAreChecked) {
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nphase_rho = [0.9, 0.95]\n"),
+             "solver.phase_lengths needs one length fewer than solver.phase_rho has phases");
+  expect_has(
+      error_of(std::string(kBoxScene) + "[solver]\nphase_rho = [0.9, 1.5]\nphase_lengths = [10]\n"),
+      "solver.phase_rho must be in [0, 1) for every phase, got 1.5");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nphase_rho = [0.9, \"a\"]\n"),
+             "solver.phase_rho must be an array of finite numbers");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nmethod = \"pd_chebyshev\"\n"),
+             "solver.method = pd_chebyshev needs material.model = \"arap\"");
+  expect_has(error_of(std::string(kBoxScene) +
+                      "[material]\nconversion.enabled = true\n[solver]\nmethod = \"newton\"\n"),
+             "solver.method = newton needs material.conversion.enabled = false");
+  const Scene phases = parse_scene(
+      std::string(kBoxScene) + "[solver]\nphase_rho = [0.9, 0.99]\nphase_lengths = [24]\n",
+      "scene.toml");
+  EXPECT_EQ(phases.solver.phase_rho, (std::vector<double>{0.9, 0.99}));
+  EXPECT_EQ(phases.solver.phase_lengths, (std::vector<int>{24}));
+}
+
 TEST(Scene, ChoicesListTheValidNames) {
   expect_has(error_of(std::string(kBoxScene) + "[material]\nmodel = \"hookean\"\n"),
              "scene.toml:4: material.model must be one of \"stvk\", \"neo_hookean\", "
@@ -627,7 +647,8 @@ TEST(Scene, ChoicesListTheValidNames) {
              "scene.toml:4: fixed.0.motion.kind must be one of \"none\", \"translate\", "
              "\"rotate\", got \"spin\"");
   expect_has(error_of(std::string(kBoxScene) + "[solver]\nmethod = \"jacobi\"\n"),
-             "solver.method must be one of \"chebyshev\", got \"jacobi\"");
+             "solver.method must be one of \"chebyshev\", \"gd\", \"jacobi_gd\", \"nesterov\", "
+             "\"ncg\", \"lbfgs\", \"newton\", \"pd_chebyshev\", got \"jacobi\"");
   expect_has(error_of(std::string(kBoxScene) + "[solver]\ninit = \"guess\"\n"),
              "solver.init must be one of \"constant_acceleration\", \"position\", \"velocity\"");
   expect_has(error_of("[mesh]\ngenerator = \"sphere\"\n"),

@@ -1,0 +1,217 @@
+#include "app/study_command.hpp"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app/scene_mesh.hpp"
+#include "app/simulation.hpp"
+#include "app/study_trace.hpp"
+#include "common/error.hpp"
+
+namespace descent {
+
+namespace {
+
+struct CaseResult {
+  std::string label;
+  SolverSpec spec;
+  std::vector<IterationRecord> records;  // energies of the first run, median times
+  std::vector<double> errors;
+  StepStats stats;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Times and energies of `repeats` runs of one case from the current state.
+CaseResult measure_case(MPI_Comm comm, Simulation<double>& sim, const std::string& label,
+                        const SolverSpec& spec, int repeats, double energy_star) {
+  CaseResult result;
+  result.label = label;
+  result.spec = spec;
+  std::vector<StepTrace> runs;
+  for (int r = 0; r < repeats; ++r) runs.push_back(trace_step(comm, sim, spec));
+  result.records = runs.front().records;
+  result.stats = runs.front().stats;
+  for (std::size_t k = 0; k < result.records.size(); ++k) {
+    std::vector<double> seconds, reduce, cpu;
+    for (const StepTrace& run : runs) {
+      if (k >= run.records.size()) continue;
+      seconds.push_back(run.records[k].seconds);
+      reduce.push_back(run.records[k].reduce_seconds);
+      cpu.push_back(run.records[k].cpu_seconds);
+    }
+    result.records[k].seconds = median(seconds);
+    result.records[k].reduce_seconds = median(reduce);
+    result.records[k].cpu_seconds = median(cpu);
+  }
+  result.errors = relative_errors(runs.front(), energy_star);
+  return result;
+}
+
+void write_pareto(const std::string& path, const std::vector<CaseResult>& results, int ranks,
+                  int frame) {
+  std::ofstream out(path, std::ios::app);
+  for (double level : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6, 1e-8}) {
+    // The cheapest (case, iteration) in wall time whose error is <= level.
+    const CaseResult* best = nullptr;
+    std::size_t best_k = 0;
+    for (const CaseResult& r : results)
+      for (std::size_t k = 0; k < r.errors.size(); ++k)
+        if (r.errors[k] <= level &&
+            (!best || r.records[k].seconds < best->records[best_k].seconds)) {
+          best = &r;
+          best_k = k;
+        }
+    out << ranks << ',' << frame << ',' << level << ',';
+    if (best)
+      out << best->label << ',' << best->records[best_k].k << ','
+          << 1e3 * best->records[best_k].seconds << '\n';
+    else
+      out << "none,,\n";
+  }
+}
+
+}  // namespace
+
+StudyCase parse_study_case(const std::string& text) {
+  StudyCase c;
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) {
+    c.label = text;
+    c.overrides.push_back("solver.method=\"" + text + "\"");
+    return c;
+  }
+  c.label = text.substr(0, colon);
+  std::istringstream keys(text.substr(colon + 1));
+  std::string pair;
+  while (keys >> pair) {
+    const std::size_t eq = pair.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError(
+          detail::concat("--case \"", text, "\": expected key=value, got \"", pair, "\""));
+    std::string value = pair.substr(eq + 1);
+    // A bare word (a method or init name) is a TOML string.
+    if (!value.empty() && std::isalpha(static_cast<unsigned char>(value[0])) && value != "true" &&
+        value != "false")
+      value = "\"" + value + "\"";
+    c.overrides.push_back("solver." + pair.substr(0, eq) + "=" + value);
+  }
+  if (c.label.empty()) throw InputError(detail::concat("--case \"", text, "\": empty label"));
+  return c;
+}
+
+CLI::App* add_study_subcommand(CLI::App& app, StudyOptions& options) {
+  CLI::App* study = app.add_subcommand(
+      "study", "Relative error vs iterations, time and collectives per method (issue 5)");
+  study->add_option("--case", options.case_texts,
+                    "A method (gd) or LABEL:key=value ... with solver keys, e.g. "
+                    "\"M1:method=chebyshev hessian_interval=1\"; repeatable (default: chebyshev "
+                    "gd jacobi_gd ncg lbfgs nesterov newton)");
+  study->add_option("--warmup", options.warmup, "Frames of the scene's method before measuring")
+      ->check(CLI::NonNegativeNumber);
+  study->add_option("--frames", options.frames, "Measured frames")->check(CLI::PositiveNumber);
+  study->add_option("--every", options.every, "Frames advanced between measured frames")
+      ->check(CLI::PositiveNumber);
+  study->add_option("--repeats", options.repeats, "Timing repeats per case (median)")
+      ->check(CLI::PositiveNumber);
+  study->add_option("--study-out", options.out_dir, "Directory for study.csv and pareto.csv");
+  study->add_flag("--quiet", options.quiet, "No progress output");
+  return study;
+}
+
+int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::string>&)>& read,
+              StudyOptions options) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  if (options.case_texts.empty())
+    options.case_texts = {"chebyshev", "gd", "jacobi_gd", "ncg", "lbfgs", "nesterov", "newton"};
+  for (const std::string& text : options.case_texts)
+    options.cases.push_back(parse_study_case(text));
+  const Scene scene = read({});
+  std::vector<SolverSpec> specs;
+  for (const StudyCase& c : options.cases) specs.push_back(read(c.overrides).solver);
+  SolverSpec truth = scene.solver;
+  truth.method = "newton";
+
+  const Mesh mesh = build_scene_mesh(scene.mesh);
+  Simulation<double> sim(comm, scene, mesh);
+  for (int f = 0; f < options.warmup; ++f) sim.step();
+
+  const std::string csv = options.out_dir + "/study.csv";
+  const std::string pareto = options.out_dir + "/pareto.csv";
+  if (rank == 0) {
+    std::filesystem::create_directories(options.out_dir);
+    std::ofstream(csv)
+        << "ranks,frame,case,method,k,energy,rel_error,ms,collectives,reduce_ms,cpu_ms\n";
+    std::ofstream(pareto) << "ranks,frame,level,case,k,ms\n";
+    if (!options.quiet)
+      std::fprintf(stderr, "study: %d tets, %d ranks, %zu cases, %d measured frame(s)\n",
+                   mesh.num_tets(), ranks, options.cases.size(), options.frames);
+  }
+  for (int m = 0; m < options.frames; ++m) {
+    if (m > 0)
+      for (int f = 0; f < options.every; ++f) sim.step();
+    const int frame = options.warmup + m * options.every;
+    const double t0 = MPI_Wtime();
+    const StepTrace star = trace_step(comm, sim, truth);
+    const double energy_star = star.records.back().energy;
+    if (rank == 0 && !options.quiet)
+      std::fprintf(stderr, "study: frame %d: newton eps* = %.12e after %d iterations (%.1f s)\n",
+                   frame, energy_star, star.stats.iterations, MPI_Wtime() - t0);
+    std::vector<CaseResult> results;
+    for (std::size_t c = 0; c < options.cases.size(); ++c) {
+      // Newton with the truth's keys is the truth's own run (timed once).
+      const bool is_truth = specs[c].method == "newton" &&
+                            specs[c].newton_tolerance == truth.newton_tolerance &&
+                            specs[c].cg_tolerance == truth.cg_tolerance;
+      if (is_truth) {
+        CaseResult r;
+        r.label = options.cases[c].label;
+        r.spec = specs[c];
+        r.records = star.records;
+        r.stats = star.stats;
+        r.errors = relative_errors(star, energy_star);
+        results.push_back(r);
+      } else {
+        results.push_back(measure_case(comm, sim, options.cases[c].label, specs[c], options.repeats,
+                                       energy_star));
+      }
+      const CaseResult& r = results.back();
+      if (rank == 0 && !options.quiet)
+        std::fprintf(stderr,
+                     "study: [%zu/%zu] %-14s e_%d = %.3e  %.1f ms (cpu %.1f ms)  %ld collectives"
+                     "  %d rollbacks  alpha %.3g\n",
+                     c + 1, options.cases.size(), r.label.c_str(), r.records.back().k,
+                     r.errors.back(), 1e3 * r.records.back().seconds,
+                     1e3 * r.records.back().cpu_seconds, r.records.back().collectives,
+                     r.stats.rollbacks, r.stats.alpha);
+    }
+    if (rank != 0) continue;
+    std::ofstream out(csv, std::ios::app);
+    out.precision(12);
+    for (const CaseResult& r : results)
+      for (std::size_t k = 0; k < r.records.size(); ++k) {
+        const IterationRecord& i = r.records[k];
+        out << ranks << ',' << frame << ',' << r.label << ',' << r.spec.method << ',' << i.k << ','
+            << i.energy << ',' << r.errors[k] << ',' << 1e3 * i.seconds << ',' << i.collectives
+            << ',' << 1e3 * i.reduce_seconds << ',' << 1e3 * i.cpu_seconds << '\n';
+      }
+    write_pareto(pareto, results, ranks, frame);
+  }
+  if (rank == 0 && !options.quiet)
+    std::fprintf(stderr, "study: wrote %s and %s; plots: /usr/bin/python3 tools/plot_study.py %s\n",
+                 csv.c_str(), pareto.c_str(), options.out_dir.c_str());
+  return 0;
+}
+
+}  // namespace descent

@@ -1,0 +1,83 @@
+#include "app/study_trace.hpp"
+
+#include <ctime>
+#include <limits>
+
+namespace descent {
+
+namespace {
+// A trial iterate may leave eps's domain (an inverted neo-Hookean element):
+// its energy is then NaN in the records, never the partial finite sum.
+double finite_or_nan(const EnergySums& sums) {
+  return sums.finite[0] ? sums.energy[0].value : std::numeric_limits<double>::quiet_NaN();
+}
+
+double cpu_now() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+}  // namespace
+
+template <class Real>
+StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spec) {
+  StepTrace trace;
+  trace.spec = spec;
+  EnergyReduction measure(comm);
+  LocalProblem<Real>& problem = sim.problem();
+  std::unique_ptr<Stepper<Real>> stepper = make_stepper(problem, spec);
+  BodyState<Real> state = sim.state();
+
+  auto collectives = [&sim] {
+    const ReductionCounters& c = sim.reduction_counters();
+    return c.allreduces + c.dot_allreduces;
+  };
+  MPI_Barrier(comm);
+  const long collectives_start = collectives();
+  const double reduce_start = sim.reduction_counters().seconds;
+  double paused = 0, cpu_paused = 0;
+  const double cpu_start = cpu_now();
+  const double start = MPI_Wtime();
+  stepper->set_observer([&](int k, const Real* q, const Real* y, const Real* qt) {
+    const double now = MPI_Wtime(), cpu = cpu_now();
+    IterationRecord r;
+    r.cpu_seconds = cpu - cpu_start - cpu_paused;
+    r.k = k;
+    r.seconds = now - start - paused;
+    r.collectives = collectives() - collectives_start;
+    r.reduce_seconds = sim.reduction_counters().seconds - reduce_start;
+    const Energy local = problem.local_energy(q, y, qt);
+    r.energy = finite_or_nan(measure.sum(&local, 1));
+    trace.records.push_back(r);
+    paused += MPI_Wtime() - now;
+    cpu_paused += cpu_now() - cpu;
+  });
+  const BodyState<Real> before = state;
+  trace.stats = stepper->step(state);
+  // The step's last record: its final state (after a last check's rollback)
+  // with the time and collectives of the whole step, the last check included.
+  const double end = MPI_Wtime();
+  IterationRecord last;
+  last.k = trace.stats.iterations;
+  last.seconds = end - start - paused;
+  last.cpu_seconds = cpu_now() - cpu_start - cpu_paused;
+  last.collectives = collectives() - collectives_start;
+  last.reduce_seconds = sim.reduction_counters().seconds - reduce_start;
+  std::vector<Real> y(before.q.size());
+  const Real h = problem.dt();
+  for (std::size_t k = 0; k < y.size(); ++k) y[k] = before.q[k] + h * before.v[k];
+  const Energy local = problem.local_energy(state.q.data(), y.data(), before.q.data());
+  last.energy = finite_or_nan(measure.sum(&local, 1));
+  if (!trace.records.empty() && trace.records.back().k == last.k) trace.records.pop_back();
+  trace.records.push_back(last);
+  return trace;
+}
+
+std::vector<double> relative_errors(const StepTrace& trace, double energy_star) {
+  std::vector<double> e;
+  if (trace.records.empty()) return e;
+  const double span = trace.records.front().energy - energy_star;
+  for (const IterationRecord& r : trace.records) e.push_back((r.energy - energy_star) / span);
+  return e;
+}
+
+template StepTrace trace_step(MPI_Comm, Simulation<double>&, const SolverSpec&);
+template StepTrace trace_step(MPI_Comm, Simulation<float>&, const SolverSpec&);
+
+}  // namespace descent

@@ -1,0 +1,41 @@
+#include "solver/methods/gradient_descent.hpp"
+
+#include <algorithm>
+
+namespace descent {
+
+template <class Real>
+GradientDescent<Real>::GradientDescent(LocalProblem<Real>& problem, const SolverSpec& spec,
+                                       bool jacobi)
+    : MethodBase<Real>(problem, spec), jacobi_(jacobi) {
+  g_.resize(this->size());
+  d_.resize(this->size());
+}
+
+template <class Real>
+void GradientDescent<Real>::iterate(StepStats& stats) {
+  const std::size_t n = this->size();
+  Real scale = 1;  // gd: the global maximum of the diagonal
+  for (int k = 0; k < this->spec_.iterations; ++k) {
+    const bool refresh = k % this->spec_.hessian_interval == 0;
+    this->gradient(this->q_.data(), g_.data(), refresh ? d_.data() : nullptr);
+    if (refresh && !jacobi_) {
+      Real local = 0;
+      for (std::size_t dof = 0; dof < n; ++dof) local = std::max(local, d_[dof]);
+      scale = static_cast<Real>(this->problem_.global_max(static_cast<double>(local)));
+    }
+    const Real alpha = static_cast<Real>(this->alpha_);
+    Real* q = this->q_.data();
+#pragma omp parallel for schedule(static)
+    for (std::size_t dof = 0; dof < n; ++dof)
+      q[dof] -= alpha * g_[dof] / (jacobi_ ? d_[dof] : scale);
+    stats.iterations = k + 1;
+    this->report(k + 1);
+    if (this->check(k, stats) == MethodBase<Real>::Check::stalled) break;
+  }
+}
+
+template class GradientDescent<double>;
+template class GradientDescent<float>;
+
+}  // namespace descent

@@ -1,0 +1,113 @@
+#include "solver/methods/hessian_operator.hpp"
+
+#include <variant>
+
+#include "kernels/cpu/element_loops.hpp"
+#include "kernels/element_hessian.hpp"
+#include "kernels/element_hessian_product.hpp"
+#include "kernels/vertex.hpp"
+
+namespace descent {
+
+template <class Real>
+HessianOperator<Real>::HessianOperator(LocalProblem<Real>& problem) : problem_(problem) {
+  const std::size_t nt = static_cast<std::size_t>(problem.mesh().num_tets());
+  const std::size_t n = 3 * static_cast<std::size_t>(problem.num_vertices());
+  corners_.resize(12 * nt);
+  diagonal_.resize(n);
+  vertex_curvature_.resize(n);
+  const VertexTerms<Real> terms = problem.vertex_terms();
+  // The vertex terms are quadratic: their curvature is the diagonal with no
+  // elastic part and no floor.
+  for (std::size_t dof = 0; dof < n; ++dof)
+    vertex_curvature_[dof] = dof_diagonal(terms, problem.mass()[dof / 3], Real(0), Real(0));
+}
+
+template <class Real>
+void HessianOperator<Real>::finish(const Real* p, Real* out) const {
+  const auto& fixed = problem_.fixed_axes();
+  const std::size_t n = diagonal_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t dof = 0; dof < n; ++dof)
+    out[dof] =
+        fixed[dof / 3] & (1u << (dof % 3)) ? Real(0) : out[dof] + vertex_curvature_[dof] * p[dof];
+}
+
+template <class Real>
+void HessianOperator<Real>::product(const Real* q, const Real* p, Real* out) {
+  const index_t nt = problem_.mesh().num_tets();
+  const index_t* tets = problem_.mesh().tets.data();
+  const TetRest<Real>* rest = problem_.rest().data();
+  Real* corners = corners_.data();
+  std::visit(
+      [&](const auto& model) {
+#pragma omp parallel for schedule(static)
+        for (index_t t = 0; t < nt; ++t) {
+          const TetCorners<Real> x = cpu::load_corners(q, &tets[4 * t]);
+          const TetCorners<Real> pc = cpu::load_corners(p, &tets[4 * t]);
+          Vec3<Real> hp[4];
+          element_hessian_product(model, rest[t], x, pc.x, hp);
+          cpu::store_corners(hp, &corners[12 * static_cast<std::size_t>(t)]);
+        }
+      },
+      problem_.model());
+  problem_.assemble_corners(corners, out);
+  finish(p, out);
+}
+
+template <class Real>
+void HessianOperator<Real>::assemble(const Real* q, bool project) {
+  const index_t nt = problem_.mesh().num_tets();
+  const index_t* tets = problem_.mesh().tets.data();
+  const TetRest<Real>* rest = problem_.rest().data();
+  hessians_.resize(144 * static_cast<std::size_t>(nt));
+  Real* h = hessians_.data();
+  Real* corners = corners_.data();
+  std::visit(
+      [&](const auto& model) {
+#pragma omp parallel for schedule(static)
+        for (index_t t = 0; t < nt; ++t) {
+          const TetCorners<Real> x = cpu::load_corners(q, &tets[4 * t]);
+          Real* ht = &h[144 * static_cast<std::size_t>(t)];
+          if (project)
+            element_hessian_psd(model, rest[t], x, ht);
+          else
+            element_hessian(model, rest[t], x, ht);
+          for (int r = 0; r < 12; ++r) corners[12 * static_cast<std::size_t>(t) + r] = ht[13 * r];
+        }
+      },
+      problem_.model());
+  problem_.assemble_corners(corners, diagonal_.data());
+  const auto& fixed = problem_.fixed_axes();
+  for (std::size_t dof = 0; dof < diagonal_.size(); ++dof)
+    diagonal_[dof] =
+        fixed[dof / 3] & (1u << (dof % 3)) ? Real(1) : diagonal_[dof] + vertex_curvature_[dof];
+}
+
+template <class Real>
+void HessianOperator<Real>::apply(const Real* p, Real* out) {
+  const index_t nt = problem_.mesh().num_tets();
+  const index_t* tets = problem_.mesh().tets.data();
+  const Real* h = hessians_.data();
+  Real* corners = corners_.data();
+#pragma omp parallel for schedule(static)
+  for (index_t t = 0; t < nt; ++t) {
+    const TetCorners<Real> pc = cpu::load_corners(p, &tets[4 * t]);
+    const Real v[12] = {pc.x[0].x, pc.x[0].y, pc.x[0].z, pc.x[1].x, pc.x[1].y, pc.x[1].z,
+                        pc.x[2].x, pc.x[2].y, pc.x[2].z, pc.x[3].x, pc.x[3].y, pc.x[3].z};
+    const Real* ht = &h[144 * static_cast<std::size_t>(t)];
+    Real* c = &corners[12 * static_cast<std::size_t>(t)];
+    for (int r = 0; r < 12; ++r) {
+      Real sum = 0;
+      for (int s = 0; s < 12; ++s) sum += ht[12 * r + s] * v[s];
+      c[r] = sum;
+    }
+  }
+  problem_.assemble_corners(corners, out);
+  finish(p, out);
+}
+
+template class HessianOperator<double>;
+template class HessianOperator<float>;
+
+}  // namespace descent

@@ -1,0 +1,42 @@
+#pragma once
+// The Hessian of eps (elastic element terms + the vertex terms' m (1/h^2 +
+// c/h) per dof) applied to a direction, distributed like the gradient: per-tet
+// corner products, gathered to vertices and completed through the halo.
+// Rows and columns of held dofs are masked out (the product is 0 there).
+//
+// Two forms: `product` evaluates the exact element Hessian along p from dPdF
+// at q (no storage; nonlinear CG's step length), and assemble/apply keeps the
+// 12x12 element Hessians of one q, exact or PSD-projected
+// (kernels/element_hessian.hpp, 144 reals per tet) for the many products of
+// Newton's linear solve. Layout: vectors 3 reals per local vertex, xyz-interleaved.
+#include <vector>
+
+#include "solver/local_problem.hpp"
+
+namespace descent {
+
+template <class Real>
+class HessianOperator {
+ public:
+  explicit HessianOperator(LocalProblem<Real>& problem);
+
+  // out = H(q) p with the exact (unprojected) element Hessians.
+  void product(const Real* q, const Real* p, Real* out);
+
+  // Stores the element Hessians at q, PSD-projected when `project`, and the
+  // diagonal of their assembly (Jacobi preconditioner; 1 on held dofs).
+  void assemble(const Real* q, bool project);
+  void apply(const Real* p, Real* out);
+  const std::vector<Real>& diagonal() const { return diagonal_; }
+
+ private:
+  // out += vertex terms p; out = 0 on held dofs.
+  void finish(const Real* p, Real* out) const;
+  LocalProblem<Real>& problem_;
+  std::vector<Real> corners_;   // 12 per tet
+  std::vector<Real> hessians_;  // 144 per tet, row-major
+  std::vector<Real> diagonal_;
+  std::vector<Real> vertex_curvature_;  // m (1/h^2 + c/h) per dof
+};
+
+}  // namespace descent

@@ -1,0 +1,66 @@
+#pragma once
+// What the methods beyond chebyshev share (docs/methods.md): the step frame
+// (initial guess as chebyshev's, held dofs, v = (q - q_t)/h), the full
+// gradient of eps with the Jacobi diagonal, owned-dof inner products, and the
+// paper's step-length control by the energy every check_interval iterations
+// (§4.2, c = 0: roll back to the checked state and alpha <- gamma alpha when
+// the energy rose; stop once alpha < alpha_min).
+//
+// Layout: every vector holds 3 reals per local vertex, xyz-interleaved, in
+// LocalMesh order. Inner products sum owned vertices [0, num_owned) only, so
+// each dof counts once over all ranks; shared vertices are updated
+// redundantly and identically by every sharer (their gradient totals are
+// bitwise equal), so no position exchange is needed.
+#include <vector>
+
+#include "io/scene.hpp"
+#include "solver/local_problem.hpp"
+#include "solver/stepper.hpp"
+
+namespace descent {
+
+template <class Real>
+class MethodBase : public Stepper<Real> {
+ public:
+  MethodBase(LocalProblem<Real>& problem, const SolverSpec& spec);
+  StepStats step(BodyState<Real>& state) final;
+  double alpha() const override { return alpha_; }
+  void set_alpha(double alpha) override { alpha_ = alpha; }
+  std::vector<double> local_region_sums() override {
+    return problem_.local_region_sums(q_.data(), y_.data(), qt_.data());
+  }
+
+ protected:
+  // The iterations of one step, from q_ (the initial guess, held dofs in
+  // place); leaves the result in q_.
+  virtual void iterate(StepStats& stats) = 0;
+
+  // g = grad eps(q), 0 on held dofs; with diag not null also the clamped
+  // Hessian diagonal (kernels/vertex.hpp dof_diagonal) per dof.
+  void gradient(const Real* q, Real* g, Real* diag);
+  // This rank's share of a . b (owned dofs); sum with problem_.global_dots.
+  double local_dot(const Real* a, const Real* b) const;
+  // This rank's share of sum a^2 / d (owned dofs).
+  double local_weighted_norm2(const Real* a, const Real* d) const;
+  void report(int k) const { this->observe(k, q_.data(), y_.data(), qt_.data()); }
+  bool held(std::size_t dof) const { return fixed_[dof / 3] & (1u << (dof % 3)); }
+  std::size_t size() const { return q_.size(); }
+
+  // The energy check after iteration k (0-based).
+  enum class Check { none, accepted, rolled_back, stalled };
+  Check check(int k, StepStats& stats);
+
+  LocalProblem<Real>& problem_;
+  SolverSpec spec_;
+  double alpha_;
+  std::vector<Real> y_, qt_, q_, q_checked_;
+
+ private:
+  const std::vector<std::uint8_t>& fixed_;
+  // Step-control state of the current step.
+  bool first_check_ = true, checked_finite_ = true;
+  double checked_energy_ = 0;
+  Energy initial_local_energy_{};
+};
+
+}  // namespace descent

@@ -1,0 +1,127 @@
+#include "solver/methods/newton.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace descent {
+
+template <class Real>
+Newton<Real>::Newton(LocalProblem<Real>& problem, const SolverSpec& spec)
+    : MethodBase<Real>(problem, spec), hessian_(problem) {
+  for (auto* v : {&g_, &dq_, &r_, &z_, &p_, &ap_, &trial_}) v->assign(this->size(), Real(0));
+}
+
+template <class Real>
+int Newton<Real>::solve(double rhs_norm2, bool& positive) {
+  const std::size_t n = this->size();
+  const Real* diag = hessian_.diagonal().data();
+  for (std::size_t k = 0; k < n; ++k) {
+    dq_[k] = 0;
+    r_[k] = -g_[k];
+    z_[k] = r_[k] / diag[k];
+    p_[k] = z_[k];
+  }
+  double rz = this->local_dot(r_.data(), z_.data());
+  this->problem_.global_dots(&rz, 1);
+  const double stop = this->spec_.cg_tolerance * this->spec_.cg_tolerance * rhs_norm2;
+  int it = 0;
+  while (it < this->spec_.cg_iterations) {
+    hessian_.apply(p_.data(), ap_.data());
+    double pap = this->local_dot(p_.data(), ap_.data());
+    this->problem_.global_dots(&pap, 1);
+    ++it;
+    if (!(pap > 0)) {  // not positive definite along p
+      positive = false;
+      break;
+    }
+    const Real a = static_cast<Real>(rz / pap);
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < n; ++k) {
+      dq_[k] += a * p_[k];
+      r_[k] -= a * ap_[k];
+      z_[k] = r_[k] / diag[k];
+    }
+    double dots[2] = {this->local_dot(r_.data(), z_.data()), this->local_dot(r_.data(), r_.data())};
+    this->problem_.global_dots(dots, 2);
+    if (dots[1] <= stop) break;
+    const Real beta = static_cast<Real>(dots[0] / rz);
+    rz = dots[0];
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < n; ++k) p_[k] = z_[k] + beta * p_[k];
+  }
+  return it;
+}
+
+template <class Real>
+void Newton<Real>::iterate(StepStats& stats) {
+  const std::size_t n = this->size();
+  gradient_norms_.clear();
+  cg_iterations_.clear();
+  projected_solves_ = 0;
+  double g0 = 0;
+  double energy = std::numeric_limits<double>::quiet_NaN();  // eps(q_), once known
+  for (int k = 0; k <= this->spec_.newton_iterations; ++k) {
+    this->gradient(this->q_.data(), g_.data(), nullptr);
+    double gg = this->local_dot(g_.data(), g_.data());
+    this->problem_.global_dots(&gg, 1);
+    const double norm = std::sqrt(gg);
+    gradient_norms_.push_back(norm);
+    if (k == 0) g0 = norm;
+    if (norm <= this->spec_.newton_tolerance * g0 || k == this->spec_.newton_iterations) break;
+
+    // The exact Hessian first (quadratic convergence); the projected one when
+    // CG meets non-positive curvature or the result is no descent direction.
+    bool project = this->spec_.newton_projection == "always";
+    double slope = 0;
+    for (;;) {
+      hessian_.assemble(this->q_.data(), project);
+      bool positive = true;
+      cg_iterations_.push_back(solve(gg, positive));
+      slope = this->local_dot(g_.data(), dq_.data());
+      this->problem_.global_dots(&slope, 1);
+      if ((positive && slope < 0) || project) break;
+      project = true;
+      ++projected_solves_;
+    }
+
+    // Armijo backtracking; eps(q) rides with the first trial.
+    double t = 1;
+    bool accepted = false;
+    for (int trial = 0; trial < 60; ++trial) {
+      for (std::size_t i = 0; i < n; ++i) trial_[i] = this->q_[i] + static_cast<Real>(t) * dq_[i];
+      const bool with_current = std::isnan(energy);
+      const Energy local[2] = {
+          this->problem_.local_energy(trial_.data(), this->y_.data(), this->qt_.data()),
+          with_current
+              ? this->problem_.local_energy(this->q_.data(), this->y_.data(), this->qt_.data())
+              : Energy{}};
+      const EnergySums sums = this->problem_.global_energies(local, with_current ? 2 : 1);
+      if (with_current) {
+        energy = sums.energy[1].value;
+        if (k == 0) stats.initial_energy = energy;
+      }
+      const double tolerance =
+          1024 * std::numeric_limits<Real>::epsilon() * sums.energy[0].magnitude;
+      if (sums.finite[0] && sums.energy[0].value <= energy + 1e-4 * t * slope + tolerance) {
+        energy = sums.energy[0].value;
+        accepted = true;
+        break;
+      }
+      ++stats.rollbacks;
+      t *= 0.5;
+    }
+    if (!accepted) {  // no decrease along dq at any length: round-off floor
+      stats.stalled = true;
+      break;
+    }
+    this->q_ = trial_;
+    stats.iterations = k + 1;
+    this->report(k + 1);
+  }
+  if (!std::isnan(energy)) stats.energy = energy;
+}
+
+template class Newton<double>;
+template class Newton<float>;
+
+}  // namespace descent

@@ -1,0 +1,43 @@
+#pragma once
+// `newton`, the ground truth (DESIGN §1, accuracy metric): at each Newton
+// iteration the element Hessians (HessianOperator::assemble; exact, or
+// PSD-projected per solver.newton_projection), the system H dq = -g solved
+// by Jacobi-preconditioned CG, distributed and without a global matrix, to
+// |r| <= cg_tolerance |g|, then a backtracking (Armijo, c = 1e-4, t halved)
+// line search on the energy; stop at |g| <= newton_tolerance |g(q0)| or
+// after newton_iterations. One Newton iteration is one observed iteration.
+// Collectives per Newton iteration: 1 (|g|^2), per linear solve 1 + 2 per CG
+// iteration ([r.z, r.r] fused, p.Ap) and 1 (g.dq) (a second solve when the
+// exact one falls back), and one energy reduction per line-search trial (the
+// first carries eps(q) too).
+#include <vector>
+
+#include "solver/methods/hessian_operator.hpp"
+#include "solver/methods/method_base.hpp"
+
+namespace descent {
+
+template <class Real>
+class Newton final : public MethodBase<Real> {
+ public:
+  Newton(LocalProblem<Real>& problem, const SolverSpec& spec);
+
+  // |grad eps| (owned free dofs, all ranks) at every Newton iterate of the
+  // last step, the initial guess first; and the CG iterations per solve.
+  const std::vector<double>& gradient_norms() const { return gradient_norms_; }
+  const std::vector<int>& cg_iterations() const { return cg_iterations_; }
+  // Newton iterations whose exact system was replaced by the projected one.
+  int projected_solves() const { return projected_solves_; }
+
+ private:
+  void iterate(StepStats& stats) override;
+  // PCG for H dq_ = -g_; returns iterations; positive: no p.Hp <= 0 met.
+  int solve(double rhs_norm2, bool& positive);
+  HessianOperator<Real> hessian_;
+  std::vector<Real> g_, dq_, r_, z_, p_, ap_, trial_;
+  std::vector<double> gradient_norms_;
+  std::vector<int> cg_iterations_;
+  int projected_solves_ = 0;
+};
+
+}  // namespace descent
