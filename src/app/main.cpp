@@ -10,6 +10,8 @@
 #include "app/default_scene.hpp"
 #include "app/run_command.hpp"
 #include "app/scene_mesh.hpp"
+#include "app/study_command.hpp"
+#include "app/tune_command.hpp"
 #include "io/mesh_io.hpp"
 #include "io/scene.hpp"
 
@@ -27,8 +29,11 @@ int main_with_mpi(int argc, char** argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
 
   CLI::App app{"descent: distributed Jacobi-Chebyshev descent for elastic bodies"};
-  app.set_version_flag("--version", std::string("descent ") + DESCENT_VERSION +
-                                        " (backends: cpu; OpenMP " + std::to_string(_OPENMP) + ")");
+  // Asked at run time: the devices visible now, not at build time.
+  app.set_version_flag("--version", [] {
+    return std::string("descent ") + DESCENT_VERSION + " (OpenMP " + std::to_string(_OPENMP) +
+           ")\n" + backend_report();
+  });
   app.require_subcommand(1);
 
   std::string scene_path, out_dir, mesh_out;
@@ -37,7 +42,9 @@ int main_with_mpi(int argc, char** argv) {
   bool overwrite = false;
   bool restart = false;
   int threads = 0;
-  std::string precision = "double";
+  std::string precision = "auto";
+  BackendRequest backend;
+  bool no_graphs = false;
 
   CLI::App* run =
       app.add_subcommand("run", "Simulate a scene (default: the built-in double helix)");
@@ -50,9 +57,35 @@ int main_with_mpi(int argc, char** argv) {
                 "Reuse an output directory holding an earlier run (default: write to DIR.1, ...)");
   run->add_flag("--restart", restart,
                 "Continue the run in the output directory from its last checkpoint");
-  run->add_option("--precision", precision, "Real type of the solver (default: double)")
-      ->check(CLI::IsMember({"float", "double"}));
+  run->add_option("--precision", precision,
+                  "Real type of the solver (default auto: float on a GPU, double on the CPU)")
+      ->check(CLI::IsMember({"auto", "float", "double"}));
+  run->add_option("--backend", backend.backend,
+                  "auto (cuda when a device is visible), cpu, cuda, or emulated (the GPU "
+                  "algorithm on the host, for tests)")
+      ->check(CLI::IsMember({"auto", "cpu", "cuda", "emulated"}));
+  run->add_option("--assembly", backend.assembly,
+                  "Device stepper: element results to vertices by gather (deterministic, "
+                  "default) or scatter (atomics)")
+      ->check(CLI::IsMember({"gather", "scatter"}));
+  run->add_flag("--share-device", backend.share_device,
+                "Let more ranks per node than visible GPUs share them");
+  run->add_flag("--no-graphs", no_graphs,
+                "Device stepper: launch every kernel instead of replaying captured graphs");
   run->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
+      ->check(CLI::PositiveNumber);
+
+  TuneOptions tune_options;
+  CLI::App* tune = add_tune_subcommand(app, tune_options);
+  tune->add_option("scene", scene_path, "Scene file (TOML); none: the built-in double helix");
+  tune->add_option("--set", overrides, "Override a scene key")->type_name("KEY=VALUE");
+
+  StudyOptions study_options;
+  CLI::App* study = add_study_subcommand(app, study_options);
+  study->add_option("scene", scene_path, "Scene file (TOML); none: the built-in double helix");
+  study->add_option("--set", overrides, "Override a scene key for every case")
+      ->type_name("KEY=VALUE");
+  study->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
       ->check(CLI::PositiveNumber);
 
   CLI::App* mesh = app.add_subcommand("mesh", "Write the mesh of a scene to a file");
@@ -74,12 +107,24 @@ int main_with_mpi(int argc, char** argv) {
   try {
     Scene scene = agree(MPI_COMM_WORLD, [&] { return read_scene(scene_path, overrides); });
     if (!out_dir.empty()) scene.output.dir = out_dir;
+    if (*tune)
+      return agree(MPI_COMM_WORLD, [&] { return run_tune(MPI_COMM_WORLD, scene, tune_options); });
+    if (*study) {
+      auto read = [&](const std::vector<std::string>& extra) {
+        std::vector<std::string> all = overrides;
+        all.insert(all.end(), extra.begin(), extra.end());
+        return read_scene(scene_path, all);
+      };
+      return agree(MPI_COMM_WORLD, [&] { return run_study(MPI_COMM_WORLD, read, study_options); });
+    }
     if (*run) {
       RunOptions options;
       options.quiet = quiet;
       options.overwrite = overwrite;
       options.restart = restart;
       options.precision = precision;
+      options.backend = backend;
+      options.backend.graphs = !no_graphs;
       return agree(MPI_COMM_WORLD, [&] { return run_scene(MPI_COMM_WORLD, scene, options); });
     }
     agree(MPI_COMM_WORLD, [&] {

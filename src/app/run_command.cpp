@@ -6,8 +6,10 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <string>
 
+#include "app/non_finite_stop.hpp"
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
 #include "common/error.hpp"
@@ -69,19 +71,29 @@ std::string output_directory(MPI_Comm comm, const std::string& dir, bool overwri
 }
 
 template <class Real>
-int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options);
+int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
+                 const BackendChoice& backend);
 
 }  // namespace
 
 int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
-  return options.precision == "float" ? run_scene_in<float>(comm, scene, options)
-                                      : run_scene_in<double>(comm, scene, options);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::string note;
+  const BackendChoice backend = choose_backend(comm, options.backend, &note);
+  // Why no GPU is used, or which one.
+  if (rank == 0 && !note.empty() && !options.quiet) std::printf("descent: %s\n", note.c_str());
+  const bool on_gpu = backend.kind == BackendKind::cuda;
+  const bool use_float = options.precision == "float" || (options.precision == "auto" && on_gpu);
+  return use_float ? run_scene_in<float>(comm, scene, options, backend)
+                   : run_scene_in<double>(comm, scene, options, backend);
 }
 
 namespace {
 
 template <class Real>
-int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
+int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
+                 const BackendChoice& backend) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -98,7 +110,10 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
 
   if (talk) report_fixed_regions(scene, mesh);
 
-  Simulation<Real> sim(comm, scene, mesh);
+  Simulation<Real> sim(comm, scene, mesh, backend);
+  if (talk && backend.kind != BackendKind::cpu)
+    std::printf("descent: backend %s: %s\n", to_string(backend.kind),
+                sim.device_memory_report().c_str());
   if (talk && size > 1)
     std::printf("%s\n", describe(partition_quality(mesh, sim.tet_part(), size)).c_str());
 
@@ -140,12 +155,17 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   FrameWriter frames(comm, out_dir, layout, resume_after);
   StatsWriter stats(comm, out_dir, sim.measurement_names(), resume_after);
   if (!options.restart) frames.write_frame(0, 0.0, sim.owned_positions());
+  // The newest frame in frames.h5 (-1: none known), so a stop can add the
+  // last good one without writing a frame twice.
+  int last_written =
+      options.restart ? (resume_after % scene.output.every == 0 ? resume_after : -1) : 0;
 
   const double h = scene.time.dt;
   double total_ms = 0;
   long total_iterations = 0;
   int stalled_steps = 0;
   constexpr int kStallWarnings = 5;
+  int nonfinite_steps = 0, nonfinite_warnings = 0;  // the latter on this rank
   const int checkpoint_every = scene.output.checkpoint_every;
   for (int frame = first_frame; frame <= scene.time.frames; ++frame) {
     const double halo_before = sim.halo_counters().seconds;
@@ -168,10 +188,36 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
     row.halo_ms = 1e3 * (sim.halo_counters().seconds - halo_before);
     row.allreduce_ms = 1e3 * (sim.reduction_counters().seconds - reduce_before);
     row.stalled = step.stalled ? 1 : 0;
-    row.extra = sim.measure();
+    row.nonfinite_rollbacks = step.nonfinite_rollbacks;
+    row.status = step_status(step);
+    // A failed step has nothing to measure (and measuring is collective, so
+    // every rank skips it alike: all know from the reduction).
+    row.extra = step.finite ? sim.measure()
+                            : std::vector<double>(sim.measurement_names().size(),
+                                                  std::numeric_limits<double>::quiet_NaN());
+    // The energy of a failed step is not a number anyone can use.
+    if (!step.finite) row.energy = std::numeric_limits<double>::quiet_NaN();
     stats.write(row);
-    if (frame % scene.output.every == 0)
+    // A failed step says more below; a warning would only repeat it. A
+    // trial that inverted a tet of a model undefined there met the model's
+    // barrier (infinite energy by design): counted in the stats, not warned.
+    const bool warn = step.finite && step.rejected_at.found() &&
+                      step.rejected_at.kind != NonFiniteSite::Kind::inverted_element;
+    if (warn && ++nonfinite_warnings <= kStallWarnings)
+      warn_rolled_back(frame, rank, step.rejected_at);
+    nonfinite_steps += step.nonfinite_rollbacks > 0 ? 1 : 0;
+    if (!step.finite) {
+      // The body still holds the last good state (the step left it alone):
+      // make sure it is on disk, then stop every rank with one message.
+      if (last_written != frame - 1)
+        frames.write_frame(frame - 1, (frame - 1) * h, sim.owned_positions());
+      report_failed_step(comm, frame, step, frames.h5_path());
+      return 3;  // the ranks that do not report; main's agree() ends them all
+    }
+    if (frame % scene.output.every == 0) {
       frames.write_frame(frame, frame * h, sim.owned_positions());
+      last_written = frame;
+    }
     // After the frame's output, so a restart never lacks a frame it skips.
     if (checkpoint_every > 0 && (frame % checkpoint_every == 0 || frame == scene.time.frames))
       write_checkpoint(checkpoint_path(out_dir, rank, size), sim.checkpoint(frame));
@@ -194,6 +240,13 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
     std::fprintf(stderr,
                  "warning: %d of %d steps ended at alpha_min (column `stalled` in stats.csv)\n",
                  stalled_steps, scene.time.frames);
+  // Mostly trials that inverted a tet of the neo-Hookean family (infinite
+  // energy by design), so a note, not a warning; NaNs were warned above.
+  if (talk && nonfinite_steps > 0)
+    std::printf(
+        "descent: %d of %d steps rolled back trial states of non-finite energy (column "
+        "`nonfinite_rollbacks` in stats.csv)\n",
+        nonfinite_steps, scene.time.frames);
   if (talk && scene.time.frames > 0) {
     const double ns_per_tet_iteration =
         total_iterations > 0
@@ -202,6 +255,8 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
     std::printf("descent: %d frames in %.1f s, %.1f ms/frame, %.1f ns per tet-iteration\n",
                 scene.time.frames, total_ms / 1e3, total_ms / scene.time.frames,
                 ns_per_tet_iteration);
+    if (backend.kind != BackendKind::cpu)
+      std::printf("descent: %s\n", sim.device_timing_report().c_str());
     std::printf("descent: wrote %s, %s and %s\n", frames.h5_path().c_str(),
                 frames.xdmf_path().c_str(), stats.path().c_str());
   }

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "backends/backend.hpp"
 #include "io/scene.hpp"
 
 namespace descent {
@@ -17,7 +18,10 @@ struct RunOptions {
   // Continue a killed run from its last checkpoint in output.dir (same scene,
   // same rank count): frames and stats after the checkpoint are replaced.
   bool restart = false;
-  std::string precision = "double";  // or "float": the solver's real type
+  // The solver's real type: "float", "double", or "auto" (float on a GPU,
+  // double on the CPU).
+  std::string precision = "auto";
+  BackendRequest backend;  // --backend, --assembly, --share-device, --no-graphs
 };
 
 // Returns the process exit code (0 on success). Collective.

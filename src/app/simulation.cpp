@@ -84,7 +84,8 @@ std::vector<std::string> scene_measurement_names(const Scene& scene) {
 }  // namespace
 
 template <class Real>
-Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh)
+Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
+                             const BackendChoice& backend)
     : scene_(scene),
       num_global_vertices_(mesh.num_vertices()),
       num_global_tets_(mesh.num_tets()),
@@ -94,7 +95,7 @@ Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh
       halo_(comm, local_),
       reduction_(comm),
       problem_(local_, scene, halo_, reduction_, scene_load_weights(scene, mesh)),
-      solver_(make_stepper(problem_, scene.solver)),
+      solver_(make_backend_stepper(problem_, halo_, scene.solver, backend)),
       state_(rest_state<Real>(local_)) {}
 
 template <class Real>

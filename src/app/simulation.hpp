@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "backends/backend.hpp"
 #include "comm/halo.hpp"
 #include "comm/reduction.hpp"
 #include "common/mesh.hpp"
@@ -23,8 +24,10 @@ namespace descent {
 template <class Real>
 class Simulation {
  public:
-  // Collective over comm. Every rank passes the same global mesh.
-  Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh);
+  // Collective over comm. Every rank passes the same global mesh. `backend`
+  // picks the stepper's backend (backends/backend.hpp; default: the CPU).
+  Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
+             const BackendChoice& backend = {});
 
   StepStats step() { return solver_->step(state_); }
 
@@ -39,10 +42,20 @@ class Simulation {
 
   const LocalMesh& local_mesh() const { return local_; }
   const LocalProblem<Real>& problem() const { return problem_; }
+  // For `descent study` and method tests: other methods over the same
+  // problem, started from this state.
+  LocalProblem<Real>& problem() { return problem_; }
   const BodyState<Real>& state() const { return state_; }
   const std::vector<int>& tet_part() const { return tet_part_; }
   const HaloCounters& halo_counters() const { return halo_.counters(); }
   const ReductionCounters& reduction_counters() const { return reduction_.counters(); }
+  const Stepper<Real>& stepper() const { return *solver_; }
+  Stepper<Real>& stepper() { return *solver_; }
+  std::string device_timing_report() const { return descent::device_timing_report(*solver_); }
+  // Device memory of a device stepper, per tet and per vertex; empty on the CPU.
+  std::string device_memory_report() const {
+    return descent::device_memory_report(*solver_, local_.num_tets(), local_.num_vertices());
+  }
 
   // Positions of owned vertices (3 per vertex, in local order [0, num_owned)).
   std::vector<double> owned_positions() const;

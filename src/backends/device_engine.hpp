@@ -1,0 +1,104 @@
+#pragma once
+// The device side of the GPU stepper (DESIGN §4): one rank's mesh, state and
+// iteration kept in device memory, driven by backends/device_chebyshev.hpp.
+// Two implementations of one template (backends/device_engine_impl.hpp): the
+// host execution, always built, and CUDA, built when a CUDA compiler is found;
+// the stepper does not know which one it drives.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "comm/halo.hpp"
+#include "comm/reduction.hpp"
+#include "solver/local_problem.hpp"
+
+namespace descent {
+
+// How element results reach vertices: gather sums each vertex's corners from
+// a vertex -> (tet, corner) table in a fixed order (deterministic, the
+// default); scatter adds them atomically (less memory traffic, order not fixed).
+enum class Assembly { gather, scatter };
+const char* to_string(Assembly assembly);
+
+struct EngineOptions {
+  Assembly assembly = Assembly::gather;
+  // Replay the iterations between two energy checks as one captured graph
+  // (where there is no exchange in between: a rank without neighbours).
+  bool graphs = true;
+  int device = 0;  // CUDA device ordinal
+};
+
+// Device memory held, split by what it scales with.
+struct DeviceMemory {
+  std::size_t tet_bytes = 0;     // arrays with an entry per tet
+  std::size_t vertex_bytes = 0;  // arrays with an entry per vertex
+  std::size_t other_bytes = 0;   // fixed-size: parameters, reduction scratch
+  std::size_t total() const { return tet_bytes + vertex_bytes + other_bytes; }
+};
+
+template <class Real>
+class DeviceEngine {
+ public:
+  virtual ~DeviceEngine() = default;
+
+  // Pinned host buffers, 3 reals per local vertex each, through which a
+  // step's data travel at full bus speed: the stepper writes the initial
+  // guess q, inertial target y, step-start positions qt and the external
+  // force there, and download() fills q.
+  struct Staging {
+    Real* q;
+    Real* y;
+    Real* qt;
+    Real* force;
+  };
+  virtual Staging staging() = 0;
+  // A step's start: the staged q (also the checked and the previous
+  // iterate), y, qt, the force when `upload_force` (else the last one stays),
+  // and with conversion the interpolants (one per tet; ignored otherwise).
+  virtual void begin_step(bool upload_force, const Real* interpolants) = 0;
+  // `count` iterations from the current iterate. Iteration i re-evaluates
+  // the Hessian diagonal when refresh[i] != 0 and uses alpha[i], omega[i].
+  virtual void iterate(int count, const std::uint8_t* refresh, const Real* alpha,
+                       const Real* omega) = 0;
+  // This rank's share of eps at the current (or the last checked) iterate.
+  virtual Energy local_energy(bool checked) = 0;
+  // checked <- current.
+  virtual void accept() = 0;
+  // current, previous <- checked (Chebyshev restarts from there).
+  virtual void rollback() = 0;
+  // The current (or checked) iterate into staging().q.
+  virtual void download(bool checked) = 0;
+  virtual void download_interpolants(Real* interpolants) = 0;
+
+  // The host waits for all queued device work.
+  virtual void synchronize() = 0;
+
+  // The element pass alone over all tets (gradient, and the Hessian diagonal
+  // when with_diag), `repeats` launches back to back: seconds per pass, and
+  // the bytes one pass requests from memory (tet ids, rest data, the four
+  // corners' positions per tet, and its outputs), for a bandwidth figure.
+  struct KernelTiming {
+    double seconds = 0;
+    double bytes = 0;
+  };
+  virtual KernelTiming time_element_pass(bool with_diag, int repeats) = 0;
+
+  virtual DeviceMemory memory() const = 0;
+  virtual std::string describe() const = 0;
+  // Captured sequences replayed so far (0 where nothing is captured).
+  virtual long graph_launches() const = 0;
+};
+
+// The host execution of the engine (OpenMP), for tests and machines without
+// a GPU; `halo` is the rank's exchange of shared-vertex partial sums.
+template <class Real>
+std::unique_ptr<DeviceEngine<Real>> make_host_engine(LocalProblem<Real>& problem, Halo<Real>& halo,
+                                                     const EngineOptions& options);
+// The CUDA engine on device options.device; a build without CUDA throws
+// InputError saying so.
+template <class Real>
+std::unique_ptr<DeviceEngine<Real>> make_cuda_engine(LocalProblem<Real>& problem, Halo<Real>& halo,
+                                                     const EngineOptions& options);
+
+}  // namespace descent

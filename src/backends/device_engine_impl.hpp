@@ -1,0 +1,359 @@
+#pragma once
+// DeviceEngine over an execution (HostExec or CudaExec): instantiated in
+// backends/host_engine.cpp and kernels/cuda/cuda_engine.cu, nowhere else.
+//
+// One iteration, as DESIGN §3 orders it, on two streams:
+//   main: boundary tets [0, nb) -> (gather: shared vertices [ni, nv)) ->
+//         shared partials to the host (one contiguous copy: the shared
+//         vertices are the last nv - ni) -> exchange on the host -> back
+//   side: interior tets [nb, nt) -> (gather: interior vertices [0, ni))
+//   main: waits for side, then the fused vertex update over all dofs.
+// Without neighbours there is no exchange, and the iterations between two
+// energy checks are captured once per shape and replayed (run_graph).
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "backends/device_engine.hpp"
+#include "backends/device_loops.hpp"
+#include "common/error.hpp"
+
+namespace descent {
+
+template <class Exec, class Real>
+class EngineImpl final : public DeviceEngine<Real> {
+ public:
+  EngineImpl(LocalProblem<Real>& problem, Halo<Real>& halo, const EngineOptions& options)
+      : exec_(options.device),
+        halo_(halo),
+        options_(options),
+        model_(problem.model()),
+        conversion_(problem.conversion()),
+        converting_(problem.energy_changes_within_step()),
+        terms_(problem.vertex_terms()) {
+    const LocalMesh& mesh = problem.mesh();
+    nt_ = mesh.num_tets();
+    nb_ = mesh.num_boundary_tets;
+    nv_ = mesh.num_vertices();
+    ni_ = mesh.num_interior;
+    owned_ = mesh.num_owned;
+    const std::size_t n3 = 3 * static_cast<std::size_t>(nv_);
+    const bool gather = options.assembly == Assembly::gather;
+
+    tets_ = upload_new(mesh.tets.data(), mesh.tets.size(), memory_.tet_bytes);
+    rest_ = upload_new(problem.rest().data(), problem.rest().size(), memory_.tet_bytes);
+    if (converting_) interpolant_ = make<Real>(nt_, memory_.tet_bytes);
+    if (gather) {
+      corner_ids_ =
+          upload_new(mesh.vertex_corners.data(), mesh.vertex_corners.size(), memory_.tet_bytes);
+      offsets_ =
+          upload_new(mesh.corner_offsets.data(), mesh.corner_offsets.size(), memory_.vertex_bytes);
+      corner_grad_ = make<Real>(12 * static_cast<std::size_t>(nt_), memory_.tet_bytes);
+      corner_diag_ = make<Real>(12 * static_cast<std::size_t>(nt_), memory_.tet_bytes);
+    }
+    mass_ = upload_new(problem.mass().data(), problem.mass().size(), memory_.vertex_bytes);
+    fixed_ =
+        upload_new(problem.fixed_axes().data(), problem.fixed_axes().size(), memory_.vertex_bytes);
+    floor_ = upload_new(problem.diagonal_floor().data(), n3, memory_.vertex_bytes);
+    for (Array<Real>* a : {&force_, &y_, &qt_, &checked_, &diag_, &q_[0], &q_[1], &q_[2]})
+      *a = make<Real>(n3, memory_.vertex_bytes);
+    partial_ = make<Real>(2 * n3, memory_.vertex_bytes);
+    // Staging for the exchange: the host buffer is indexed like partial_, but
+    // only the shared range [width ni, width nv) is ever copied.
+    if (halo_.num_neighbours() > 0) stage_ = make_pinned<Real>(2 * n3);
+    for (Array<Real>* a : {&stage_q_, &stage_y_, &stage_qt_, &stage_force_})
+      *a = make_pinned<Real>(n3);
+    reserve_params(64);
+  }
+
+  typename DeviceEngine<Real>::Staging staging() override {
+    return {stage_q_.data(), stage_y_.data(), stage_qt_.data(), stage_force_.data()};
+  }
+
+  void begin_step(bool upload_force, const Real* interpolants) override {
+    const std::size_t bytes = checked_.bytes();
+    cur_ = 0;
+    exec_.copy(kMain, q_[cur_].data(), stage_q_.data(), bytes);
+    exec_.copy(kMain, q_[prev_index()].data(), q_[cur_].data(), bytes);
+    exec_.copy(kMain, checked_.data(), q_[cur_].data(), bytes);
+    exec_.copy(kMain, y_.data(), stage_y_.data(), bytes);
+    exec_.copy(kMain, qt_.data(), stage_qt_.data(), bytes);
+    if (upload_force) exec_.copy(kMain, force_.data(), stage_force_.data(), bytes);
+    if (converting_) exec_.copy(kMain, interpolant_.data(), interpolants, interpolant_.bytes());
+    // The host may change its buffers as soon as this returns.
+    exec_.sync(kMain);
+  }
+
+  void iterate(int count, const std::uint8_t* refresh, const Real* alpha,
+               const Real* omega) override {
+    DESCENT_VERIFY(count > 0, "iteration block of ", count);
+    exec_.sync(kMain);  // the previous block's parameter upload is done with params_host_
+    reserve_params(static_cast<std::size_t>(count));
+    for (int i = 0; i < count; ++i) params_host_.data()[i] = {alpha[i], omega[i]};
+    exec_.copy(kMain, params_.data(), params_host_.data(), count * sizeof(params_host_.data()[0]));
+    const int first = cur_;
+    auto enqueue = [&, first] {
+      for (int i = 0; i < count; ++i)
+        iteration(refresh[i] != 0, params_.data() + i, (first + i) % 3);
+    };
+    if (options_.graphs && halo_.num_neighbours() == 0) {
+      // A captured sequence bakes in its buffers: the key names the rotation
+      // phase and which iterations refresh the diagonal.
+      std::string key = std::to_string(first) + ":";
+      for (int i = 0; i < count; ++i) key += refresh[i] ? '1' : '0';
+      exec_.run_graph(key, enqueue);
+    } else {
+      enqueue();
+    }
+    cur_ = (first + count) % 3;
+  }
+
+  Energy local_energy(bool checked) override {
+    const Real* q = checked ? checked_.data() : q_[cur_].data();
+    const device::VertexData<Real> vd = vertex_data();
+    const Sum2 s = std::visit(
+        [&](const auto& model) {
+          return converting_ ? device::local_energy<true>(exec_, kMain, model, conversion_,
+                                                          interpolant_.data(), q, tets_.data(),
+                                                          rest_.data(), nt_, vd, owned_)
+                             : device::local_energy<false>(exec_, kMain, model, conversion_,
+                                                           interpolant_.data(), q, tets_.data(),
+                                                           rest_.data(), nt_, vd, owned_);
+        },
+        model_);
+    return {s.value, s.magnitude};
+  }
+
+  void accept() override { exec_.copy(kMain, checked_.data(), q_[cur_].data(), checked_.bytes()); }
+
+  void rollback() override {
+    exec_.copy(kMain, q_[cur_].data(), checked_.data(), checked_.bytes());
+    exec_.copy(kMain, q_[prev_index()].data(), checked_.data(), checked_.bytes());
+  }
+
+  void download(bool checked) override {
+    exec_.copy(kMain, stage_q_.data(), checked ? checked_.data() : q_[cur_].data(),
+               checked_.bytes());
+    exec_.sync(kMain);
+  }
+
+  void download_interpolants(Real* interpolants) override {
+    if (!converting_) return;
+    exec_.copy(kMain, interpolants, interpolant_.data(), interpolant_.bytes());
+    exec_.sync(kMain);
+  }
+
+  void synchronize() override {
+    exec_.sync(kSide);
+    exec_.sync(kMain);
+  }
+
+  typename DeviceEngine<Real>::KernelTiming time_element_pass(bool with_diag,
+                                                              int repeats) override {
+    const int width = with_diag ? 6 : 3;
+    const Real* q = q_[cur_].data();
+    synchronize();
+    const auto start = std::chrono::steady_clock::now();
+    for (int r = 0; r < repeats; ++r) {
+      if (options_.assembly == Assembly::scatter)
+        exec_.zero(kMain, partial_.data(), static_cast<std::size_t>(width) * nv_ * sizeof(Real));
+      element_pass(kMain, q, 0, nt_, with_diag, width);
+    }
+    synchronize();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / repeats;
+    // Per tet: 4 ids, the rest data, 12 position reals, 12 output reals per
+    // output (scatter: each an atomic read-modify-write, counted twice).
+    const double outputs = (with_diag ? 24.0 : 12.0) *
+                           (options_.assembly == Assembly::scatter ? 2.0 : 1.0) * sizeof(Real);
+    const double per_tet =
+        4.0 * sizeof(index_t) + sizeof(TetRest<Real>) + 12.0 * sizeof(Real) + outputs;
+    return {seconds, per_tet * nt_};
+  }
+
+  DeviceMemory memory() const override { return memory_; }
+  std::string describe() const override {
+    return exec_.describe() + ", " + to_string(options_.assembly) + " assembly";
+  }
+  long graph_launches() const override { return exec_.graph_launches(); }
+
+ private:
+  static constexpr int kMain = 0, kSide = 1;                              // streams
+  static constexpr int kStart = 0, kBoundaryDone = 1, kInteriorDone = 2;  // events
+
+  // Memory of the execution, released with the engine.
+  template <class T>
+  class Array {
+   public:
+    Array() = default;
+    Array(Exec* exec, std::size_t n, bool pinned)
+        : exec_(exec),
+          n_(n),
+          pinned_(pinned),
+          p_(static_cast<T*>(pinned ? exec->allocate_pinned(n * sizeof(T))
+                                    : exec->allocate(n * sizeof(T)))) {}
+    Array(Array&& o) noexcept { *this = std::move(o); }
+    Array& operator=(Array&& o) noexcept {
+      std::swap(exec_, o.exec_);
+      std::swap(n_, o.n_);
+      std::swap(pinned_, o.pinned_);
+      std::swap(p_, o.p_);
+      return *this;
+    }
+    ~Array() {
+      if (!p_) return;
+      if (pinned_)
+        exec_->release_pinned(p_);
+      else
+        exec_->release(p_);
+    }
+    T* data() const { return p_; }
+    std::size_t size() const { return n_; }
+    std::size_t bytes() const { return n_ * sizeof(T); }
+
+   private:
+    Exec* exec_ = nullptr;
+    std::size_t n_ = 0;
+    bool pinned_ = false;
+    T* p_ = nullptr;
+  };
+
+  template <class T>
+  Array<T> make(std::size_t n, std::size_t& counter) {
+    counter += n * sizeof(T);
+    return Array<T>(&exec_, n, false);
+  }
+  template <class T>
+  Array<T> make_pinned(std::size_t n) {
+    return Array<T>(&exec_, n, true);
+  }
+  template <class T>
+  Array<T> upload_new(const T* host, std::size_t n, std::size_t& counter) {
+    Array<T> a = make<T>(n, counter);
+    exec_.copy(kMain, a.data(), host, a.bytes());
+    exec_.sync(kMain);
+    return a;
+  }
+
+  int prev_index() const { return (cur_ + 2) % 3; }
+
+  // Room for the parameters of `count` iterations. Growing moves the device
+  // array, so captured graphs (which name it) are dropped with it.
+  void reserve_params(std::size_t count) {
+    if (count <= params_.size()) return;
+    memory_.other_bytes -= params_.bytes();
+    params_ = make<device::IterationParams<Real>>(count, memory_.other_bytes);
+    params_host_ = make_pinned<device::IterationParams<Real>>(count);
+    exec_.clear_graphs();
+  }
+
+  device::VertexData<Real> vertex_data() const {
+    return {mass_.data(), fixed_.data(), floor_.data(), force_.data(),
+            y_.data(),    qt_.data(),    terms_};
+  }
+
+  void element_pass(int stream, const Real* q, index_t begin, index_t end, bool with_diag,
+                    int width) {
+    if (end <= begin) return;
+    device::ElementOut<Real> out;
+    if (options_.assembly == Assembly::gather) {
+      out.corner_grad = corner_grad_.data();
+      out.corner_diag = corner_diag_.data();
+    } else {
+      out.partial = partial_.data();
+    }
+    out.width = width;
+    std::visit(
+        [&](const auto& model) {
+          if (converting_)
+            device::element_pass<true>(exec_, stream, model, conversion_, interpolant_.data(), q,
+                                       tets_.data(), rest_.data(), begin, end, with_diag, out);
+          else
+            device::element_pass<false>(exec_, stream, model, conversion_, interpolant_.data(), q,
+                                        tets_.data(), rest_.data(), begin, end, with_diag, out);
+        },
+        model_);
+  }
+
+  void gather(int stream, index_t begin, index_t end, bool with_diag, int width) {
+    if (end <= begin) return;
+    device::gather_corners(exec_, stream, offsets_.data(), corner_ids_.data(), begin, end,
+                           corner_grad_.data(), partial_.data(), width, 0);
+    if (with_diag)
+      device::gather_corners(exec_, stream, offsets_.data(), corner_ids_.data(), begin, end,
+                             corner_diag_.data(), partial_.data(), width, 3);
+  }
+
+  // One iteration from buffer `c` (current), (c + 2) % 3 (previous) into
+  // (c + 1) % 3 (next).
+  void iteration(bool refresh, const device::IterationParams<Real>* params, int c) {
+    const Real* q = q_[c].data();
+    const Real* q_prev = q_[(c + 2) % 3].data();
+    Real* q_next = q_[(c + 1) % 3].data();
+    const int width = refresh ? 6 : 3;
+    const bool gather_mode = options_.assembly == Assembly::gather;
+    const bool exchange = halo_.num_neighbours() > 0;
+    const std::size_t shared_offset = static_cast<std::size_t>(width) * ni_;
+    const std::size_t shared_bytes = static_cast<std::size_t>(width) * (nv_ - ni_) * sizeof(Real);
+
+    if (!gather_mode)
+      exec_.zero(kMain, partial_.data(), static_cast<std::size_t>(width) * nv_ * sizeof(Real));
+    exec_.record(kMain, kStart);
+    exec_.wait(kSide, kStart);
+    element_pass(kMain, q, 0, nb_, refresh, width);
+    if (gather_mode) gather(kMain, ni_, nv_, refresh, width);
+    exec_.record(kMain, kBoundaryDone);
+    if (exchange)
+      exec_.copy(kMain, stage_.data() + shared_offset, partial_.data() + shared_offset,
+                 shared_bytes);
+    auto interior = [&] {
+      element_pass(kSide, q, nb_, nt_, refresh, width);
+      if (gather_mode) {
+        exec_.wait(kSide, kBoundaryDone);  // interior vertices have boundary-tet corners too
+        gather(kSide, 0, ni_, refresh, width);
+      }
+      exec_.record(kSide, kInteriorDone);
+    };
+    // An asynchronous execution queues the interior before the host blocks
+    // on the exchange, so the two overlap; the host one runs it in between.
+    if constexpr (Exec::kAsync) interior();
+    if (exchange) {
+      exec_.sync(kMain);
+      halo_.begin(stage_.data(), width);
+    }
+    if constexpr (!Exec::kAsync) interior();
+    if (exchange) {
+      halo_.finish(stage_.data(), width);
+      exec_.copy(kMain, partial_.data() + shared_offset, stage_.data() + shared_offset,
+                 shared_bytes);
+    }
+    exec_.wait(kMain, kInteriorDone);
+    device::vertex_update(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), width, refresh,
+                          diag_.data(), q, q_prev, q_next, params);
+  }
+
+  Exec exec_;
+  Halo<Real>& halo_;
+  EngineOptions options_;
+  ElasticModel<Real> model_;
+  Conversion<Real> conversion_;
+  bool converting_;
+  VertexTerms<Real> terms_;
+  index_t nt_ = 0, nb_ = 0, nv_ = 0, ni_ = 0, owned_ = 0;
+  int cur_ = 0;
+  DeviceMemory memory_;
+
+  Array<index_t> tets_, corner_ids_, offsets_;
+  Array<TetRest<Real>> rest_;
+  Array<Real> interpolant_, corner_grad_, corner_diag_;
+  Array<Real> mass_, floor_, force_, y_, qt_, checked_, diag_, partial_;
+  Array<std::uint8_t> fixed_;
+  Array<Real> q_[3];
+  Array<Real> stage_;                                       // exchange (pinned host)
+  Array<Real> stage_q_, stage_y_, stage_qt_, stage_force_;  // step data (pinned host)
+  Array<device::IterationParams<Real>> params_, params_host_;
+};
+
+}  // namespace descent
