@@ -7,21 +7,9 @@
 
 #include "common/error.hpp"
 #include "solver/methods/chebyshev_phases.hpp"
+#include "solver/step_control.hpp"
 
 namespace descent {
-
-namespace {
-
-// As solver/chebyshev_descent.cpp: a rise within the round-off of the
-// energy's evaluation is no rise.
-template <class Real>
-double energy_roundoff(double magnitude) {
-  return 1024 * std::numeric_limits<Real>::epsilon() * magnitude;
-}
-
-bool finite(const Energy& e) { return std::isfinite(e.value) && std::isfinite(e.magnitude); }
-
-}  // namespace
 
 template <class Real>
 DeviceChebyshev<Real>::DeviceChebyshev(LocalProblem<Real>& problem, const SolverSpec& spec,
@@ -39,21 +27,10 @@ template <class Real>
 StepStats DeviceChebyshev<Real>::step(BodyState<Real>& state) {
   const double t_next = state.time + static_cast<double>(problem_.dt());
   problem_.begin_step(t_next);
-  // The initial guess as the CPU stepper makes it (paper 1, §4.4).
-  const Real h = problem_.dt();
-  const Real eta = static_cast<Real>(spec_.eta);
-  const Real w_velocity = spec_.init == "position" ? Real(0) : Real(1);
-  const Real w_acceleration = spec_.init == "constant_acceleration" ? eta : Real(0);
-  const std::size_t n = n_;
-#pragma omp parallel for schedule(static)
-  for (std::size_t k = 0; k < n; ++k) {
-    const Real qt = state.q[k], v = state.v[k];
-    qt_[k] = qt;
-    y_[k] = qt + h * v;
-    q_[k] = qt + h * (w_velocity * v + w_acceleration * (v - state.v_prev[k]));
-  }
+  predict_positions(spec_, problem_, state, qt_, y_, q_);
   problem_.hold_fixed(t_next, q_);
-  const bool reevaluate = problem_.energy_changes_within_step();
+  EnergyCheck check(problem_.energy_changes_within_step());
+  const bool reevaluate = check.reevaluate();
   // Loads travel only when some are applied (or were: back to zero).
   const auto& force = problem_.external_force();
   const bool force_nonzero =
@@ -67,9 +44,6 @@ StepStats DeviceChebyshev<Real>::step(BodyState<Real>& state) {
   alpha_ = std::min(spec_.alpha_max, alpha_ / spec_.gamma);
   const ChebyshevPhases phases(spec_);
   const Energy initial_local_energy = reevaluate ? Energy{} : engine_->local_energy(false);
-  bool first_check = true;
-  double checked_energy = 0;
-  bool checked_finite = true;
   Real omega = 1;
   int chebyshev_k = 0;
   std::vector<std::uint8_t> refresh;
@@ -87,12 +61,7 @@ StepStats DeviceChebyshev<Real>::step(BodyState<Real>& state) {
     for (int j = k; j < end; ++j) {
       if (phases.starts_phase(j)) chebyshev_k = spec_.chebyshev_delay;
       const Real rho2 = static_cast<Real>(phases.rho(j) * phases.rho(j));
-      if (chebyshev_k < spec_.chebyshev_delay)
-        omega = 1;
-      else if (chebyshev_k == spec_.chebyshev_delay)
-        omega = Real(2) / (Real(2) - rho2);
-      else
-        omega = Real(4) / (Real(4) - rho2 * omega);
+      omega = chebyshev_omega(chebyshev_k, spec_.chebyshev_delay, rho2, omega);
       refresh.push_back(j % spec_.hessian_interval == 0 ? 1 : 0);
       alphas.push_back(static_cast<Real>(alpha_));
       omegas.push_back(omega);
@@ -118,29 +87,13 @@ StepStats DeviceChebyshev<Real>::step(BodyState<Real>& state) {
 
     const Energy local[2] = {engine_->local_energy(false),
                              reevaluate ? engine_->local_energy(true) : initial_local_energy};
-    const EnergySums sums = problem_.global_energies(local, first_check || reevaluate ? 2 : 1);
-    if (first_check || reevaluate) {
-      checked_energy = sums.energy[1].value;
-      checked_finite = sums.finite[1];
-    }
-    if (first_check) {
-      stats.initial_energy = checked_energy;
-      first_check = false;
-    }
-    const double tolerance = energy_roundoff<Real>(sums.energy[0].magnitude);
-    stats.energy_tolerance = tolerance;
-    if (sums.finite[0] && (!checked_finite || sums.energy[0].value <= checked_energy + tolerance)) {
-      checked_energy = sums.energy[0].value;
-      checked_finite = true;
+    if (check.accept<Real>(problem_.global_energies(local, check.count()), stats)) {
       engine_->accept();
       continue;
     }
-    if (!sums.finite[0]) {
-      ++stats.nonfinite_rollbacks;
-      if (!stats.rejected_at.found() && !finite(local[0])) {
-        engine_->download(false);
-        stats.rejected_at = problem_.find_non_finite(q_, y_, qt_);
-      }
+    if (!stats.rejected_at.found() && !finite(local[0])) {
+      engine_->download(false);
+      stats.rejected_at = problem_.find_non_finite(q_, y_, qt_);
     }
     engine_->rollback();
     chebyshev_k = 0;
@@ -157,17 +110,18 @@ StepStats DeviceChebyshev<Real>::step(BodyState<Real>& state) {
     engine_->download_interpolants(interpolants_.data());
     problem_.set_interpolants(interpolants_);
   }
-  if (!checked_finite) {
+  if (!check.checked_finite()) {
     stats.finite = false;
     engine_->download(true);
     stats.failed_at = problem_.find_non_finite(q_, y_, qt_);
     stats.alpha = alpha_;
-    stats.energy = checked_energy;
+    stats.energy = check.checked_energy();
     return stats;
   }
 
   engine_->download(false);
   const Real inv_h = Real(1) / problem_.dt();
+  const std::size_t n = n_;
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < n; ++k) {
     state.v_prev[k] = state.v[k];
@@ -176,7 +130,7 @@ StepStats DeviceChebyshev<Real>::step(BodyState<Real>& state) {
   }
   state.time = t_next;
   stats.alpha = alpha_;
-  stats.energy = checked_energy;
+  stats.energy = check.checked_energy();
   return stats;
 }
 

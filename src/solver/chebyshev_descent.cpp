@@ -7,7 +7,7 @@
 #include "common/error.hpp"
 #include "kernels/vertex.hpp"
 #include "solver/methods/chebyshev_phases.hpp"
-#include "solver/methods/optimized_init.hpp"
+#include "solver/step_control.hpp"
 
 namespace descent {
 
@@ -20,14 +20,6 @@ BodyState<Real> rest_state(const LocalMesh& mesh) {
   return s;
 }
 
-// Round-off scale of an energy summed from terms of total magnitude
-// `magnitude`, each term evaluated in Real: a generous multiple of Real's
-// epsilon (the terms are summed in double).
-template <class Real>
-double energy_roundoff(double magnitude) {
-  return 1024 * std::numeric_limits<Real>::epsilon() * magnitude;
-}
-
 template <class Real>
 ChebyshevDescent<Real>::ChebyshevDescent(LocalProblem<Real>& problem, const SolverSpec& spec)
     : problem_(problem), spec_(spec), alpha_(spec.alpha_max) {
@@ -35,38 +27,11 @@ ChebyshevDescent<Real>::ChebyshevDescent(LocalProblem<Real>& problem, const Solv
   for (auto* v : {&y_, &qt_, &q_, &q_prev_, &q_checked_, &q_next_, &diag_}) v->resize(n);
 }
 
-// Prediction of q_{t+1} (paper 1, §4.4); the caller then puts held axes
-// where their motion says.
-template <class Real>
-void ChebyshevDescent<Real>::initial_guess(const BodyState<Real>& state) {
-  const Real h = problem_.dt();
-  const Real eta = static_cast<Real>(spec_.eta);
-  // Weights of h v and of h (v - v_prev) in the guess q_t + ... .
-  const Real w_velocity = spec_.init == "position" ? Real(0) : Real(1);
-  const Real w_acceleration = spec_.init == "constant_acceleration" ? eta : Real(0);
-  const std::size_t n = q_.size();
-#pragma omp parallel for schedule(static)
-  for (std::size_t k = 0; k < n; ++k) {
-    const Real qt = state.q[k], v = state.v[k];
-    qt_[k] = qt;
-    y_[k] = qt + h * v;
-    q_[k] = qt + h * (w_velocity * v + w_acceleration * (v - state.v_prev[k]));
-  }
-  // Eq. 10 (solver/methods/optimized_init.hpp): q_t + d h v, d from y and q_t.
-  if (spec_.init == "optimized") {
-    std::vector<Real> hv(n);
-    for (std::size_t k = 0; k < n; ++k) hv[k] = h * state.v[k];
-    const Real d =
-        static_cast<Real>(optimized_step_weight(problem_, qt_.data(), y_.data(), hv.data()));
-    for (std::size_t k = 0; k < n; ++k) q_[k] = qt_[k] + d * hv[k];
-  }
-}
-
 template <class Real>
 StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   const double t_next = state.time + static_cast<double>(problem_.dt());
   problem_.begin_step(t_next);
-  initial_guess(state);
+  predict_positions(spec_, problem_, state, qt_.data(), y_.data(), q_.data());
   problem_.hold_fixed(t_next, q_.data());
   StepStats stats;
   alpha_ = std::min(spec_.alpha_max, alpha_ / spec_.gamma);
@@ -78,17 +43,10 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   const ChebyshevPhases phases(spec_);
   const std::size_t n = q_.size();
 
-  // The initial guess is the first checked state; its energy is summed with
-  // the first check's (one allreduce for both). With model conversion the
-  // energy function itself moves as interpolants change (Eq. 17), so every
-  // check re-evaluates the checked state too and compares both under the
-  // same interpolants; the pair still travels in one allreduce.
-  const bool reevaluate = problem_.energy_changes_within_step();
+  // The initial guess is the first checked state (step_control.hpp).
+  EnergyCheck check(problem_.energy_changes_within_step());
   const Energy initial_local_energy =
-      reevaluate ? Energy{} : problem_.local_energy(q_.data(), y_.data(), qt_.data());
-  bool first_check = true;
-  double checked_energy = 0;
-  bool checked_finite = true;  // a non-finite checked state yields to any finite one
+      check.reevaluate() ? Energy{} : problem_.local_energy(q_.data(), y_.data(), qt_.data());
   q_checked_ = q_;
   q_prev_ = q_;
   Real omega = 1;
@@ -101,12 +59,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     if (phases.starts_phase(k)) chebyshev_k = spec_.chebyshev_delay;
     const Real rho2 = static_cast<Real>(phases.rho(k) * phases.rho(k));
     const auto assembled = problem_.elastic_gradient(q_.data(), refresh_diagonal);
-    if (chebyshev_k < spec_.chebyshev_delay)
-      omega = 1;
-    else if (chebyshev_k == spec_.chebyshev_delay)
-      omega = Real(2) / (Real(2) - rho2);
-    else
-      omega = Real(4) / (Real(4) - rho2 * omega);
+    omega = chebyshev_omega(chebyshev_k, spec_.chebyshev_delay, rho2, omega);
     const Real alpha = static_cast<Real>(alpha_);
     const Real* a = assembled.values;
     const int width = assembled.width;
@@ -134,37 +87,17 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     const bool last = k + 1 == spec_.iterations;
     if ((k + 1) % spec_.check_interval != 0 && !last) continue;
     const Energy local[2] = {problem_.local_energy(q_.data(), y_.data(), qt_.data()),
-                             reevaluate
+                             check.reevaluate()
                                  ? problem_.local_energy(q_checked_.data(), y_.data(), qt_.data())
                                  : initial_local_energy};
-    const EnergySums sums = problem_.global_energies(local, first_check || reevaluate ? 2 : 1);
-    if (first_check || reevaluate) {
-      checked_energy = sums.energy[1].value;
-      checked_finite = sums.finite[1];
-    }
-    if (first_check) {
-      stats.initial_energy = checked_energy;
-      first_check = false;
-    }
-    // A rise within the round-off of the energy's evaluation is no rise: near
-    // the minimum it is noise, and reading it as a rise would shrink alpha
-    // for nothing.
-    const double tolerance = energy_roundoff<Real>(sums.energy[0].magnitude);
-    stats.energy_tolerance = tolerance;
-    if (sums.finite[0] && (!checked_finite || sums.energy[0].value <= checked_energy + tolerance)) {
-      checked_energy = sums.energy[0].value;
-      checked_finite = true;
+    if (check.accept<Real>(problem_.global_energies(local, check.count()), stats)) {
       q_checked_ = q_;
       continue;
     }
-    // The energy rose (or is not finite): back to the checked state, shorter step.
-    if (!sums.finite[0]) {
-      ++stats.nonfinite_rollbacks;
-      // Only the rank whose own terms were not finite looks for the culprit.
-      if (!stats.rejected_at.found() &&
-          !(std::isfinite(local[0].value) && std::isfinite(local[0].magnitude)))
-        stats.rejected_at = problem_.find_non_finite(q_.data(), y_.data(), qt_.data());
-    }
+    // The energy rose (or is not finite): back to the checked state, shorter
+    // step. Only the rank whose own terms were not finite looks for the culprit.
+    if (!stats.rejected_at.found() && !finite(local[0]))
+      stats.rejected_at = problem_.find_non_finite(q_.data(), y_.data(), qt_.data());
     q_ = q_checked_;
     q_prev_ = q_checked_;
     chebyshev_k = 0;
@@ -180,11 +113,11 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   // finite and no trial was either): the body keeps the step's start, the last
   // good state, and the caller stops the run. Every rank knows it from the
   // reduction; each names what it holds that is not finite.
-  if (!checked_finite) {
+  if (!check.checked_finite()) {
     stats.finite = false;
     stats.failed_at = problem_.find_non_finite(q_checked_.data(), y_.data(), qt_.data());
     stats.alpha = alpha_;
-    stats.energy = checked_energy;
+    stats.energy = check.checked_energy();
     return stats;
   }
 
@@ -197,7 +130,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   }
   state.time = t_next;
   stats.alpha = alpha_;
-  stats.energy = checked_energy;
+  stats.energy = check.checked_energy();
   return stats;
 }
 

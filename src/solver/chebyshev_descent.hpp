@@ -31,8 +31,6 @@ class ChebyshevDescent final : public Stepper<Real> {
   }
 
  private:
-  void initial_guess(const BodyState<Real>& state);
-
   LocalProblem<Real>& problem_;
   SolverSpec spec_;
   double alpha_;

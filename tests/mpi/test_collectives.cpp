@@ -1,49 +1,14 @@
 // Collectives inside the iteration loop, counted at the MPI boundary through
-// the PMPI profiling interface (this file replaces MPI_Allreduce & co. for the
-// test executable): exactly one MPI_Allreduce per check interval (8
-// iterations), no other collective, and the comm layer's own counter agrees.
+// the PMPI profiling interface (pmpi_counters.hpp): exactly one MPI_Allreduce
+// per check interval (8 iterations), no other collective, and the comm
+// layer's own counter agrees.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
+#include "pmpi_counters.hpp"
 #include "small_scenes.hpp"
-
-namespace {
-long g_allreduce = 0;
-long g_other_collectives = 0;
-}  // namespace
-
-extern "C" {
-int MPI_Allreduce(const void* send, void* recv, int count, MPI_Datatype type, MPI_Op op,
-                  MPI_Comm comm) {
-  ++g_allreduce;
-  return PMPI_Allreduce(send, recv, count, type, op, comm);
-}
-int MPI_Bcast(void* buffer, int count, MPI_Datatype type, int root, MPI_Comm comm) {
-  ++g_other_collectives;
-  return PMPI_Bcast(buffer, count, type, root, comm);
-}
-int MPI_Barrier(MPI_Comm comm) {
-  ++g_other_collectives;
-  return PMPI_Barrier(comm);
-}
-int MPI_Reduce(const void* send, void* recv, int count, MPI_Datatype type, MPI_Op op, int root,
-               MPI_Comm comm) {
-  ++g_other_collectives;
-  return PMPI_Reduce(send, recv, count, type, op, root, comm);
-}
-int MPI_Allgather(const void* send, int scount, MPI_Datatype stype, void* recv, int rcount,
-                  MPI_Datatype rtype, MPI_Comm comm) {
-  ++g_other_collectives;
-  return PMPI_Allgather(send, scount, stype, recv, rcount, rtype, comm);
-}
-int MPI_Gather(const void* send, int scount, MPI_Datatype stype, void* recv, int rcount,
-               MPI_Datatype rtype, int root, MPI_Comm comm) {
-  ++g_other_collectives;
-  return PMPI_Gather(send, scount, stype, recv, rcount, rtype, root, comm);
-}
-}
 
 namespace descent {
 namespace {
@@ -55,14 +20,14 @@ TEST(Collectives, OneAllreducePerEightIterationsAndNothingElse) {
   const Mesh mesh = build_scene_mesh(scene.mesh);
   Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
   for (int frame = 0; frame < 3; ++frame) {
-    const long allreduce_before = g_allreduce;
-    const long other_before = g_other_collectives;
+    const long allreduce_before = testing::pmpi_allreduces();
+    const long other_before = testing::pmpi_other_collectives();
     const long counted_before = sim.reduction_counters().allreduces;
     const StepStats step = sim.step();
     ASSERT_EQ(step.iterations, 96) << "the step ended early; the count below assumes a full step";
-    EXPECT_EQ(g_allreduce - allreduce_before, 96 / 8) << "frame " << frame;
+    EXPECT_EQ(testing::pmpi_allreduces() - allreduce_before, 96 / 8) << "frame " << frame;
     EXPECT_EQ(sim.reduction_counters().allreduces - counted_before, 96 / 8);
-    EXPECT_EQ(g_other_collectives - other_before, 0) << "frame " << frame;
+    EXPECT_EQ(testing::pmpi_other_collectives() - other_before, 0) << "frame " << frame;
   }
 }
 

@@ -1,7 +1,7 @@
 // Collectives per step of each method (docs/methods.md), counted at the MPI
-// boundary through PMPI (this file replaces MPI_Allreduce & co. for the test
-// executable), against the documented formulas; the comm layer's counters
-// (energy + dot allreduces) agree with PMPI and nothing else is called.
+// boundary through PMPI (pmpi_counters.hpp), against the documented formulas;
+// the comm layer's counters (energy + dot allreduces) agree with PMPI and
+// nothing else is called.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -9,34 +9,9 @@
 
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
+#include "pmpi_counters.hpp"
 #include "small_scenes.hpp"
 #include "solver/methods/newton.hpp"
-
-namespace {
-long g_allreduce = 0;
-long g_other_collectives = 0;
-}  // namespace
-
-extern "C" {
-int MPI_Allreduce(const void* send, void* recv, int count, MPI_Datatype type, MPI_Op op,
-                  MPI_Comm comm) {
-  ++g_allreduce;
-  return PMPI_Allreduce(send, recv, count, type, op, comm);
-}
-int MPI_Bcast(void* buffer, int count, MPI_Datatype type, int root, MPI_Comm comm) {
-  ++g_other_collectives;
-  return PMPI_Bcast(buffer, count, type, root, comm);
-}
-int MPI_Barrier(MPI_Comm comm) {
-  ++g_other_collectives;
-  return PMPI_Barrier(comm);
-}
-int MPI_Reduce(const void* send, void* recv, int count, MPI_Datatype type, MPI_Op op, int root,
-               MPI_Comm comm) {
-  ++g_other_collectives;
-  return PMPI_Reduce(send, recv, count, type, op, root, comm);
-}
-}
 
 namespace descent {
 namespace {
@@ -47,12 +22,12 @@ struct Counted {
 };
 
 Counted count_step(Simulation<double>& sim) {
-  const long a = g_allreduce, o = g_other_collectives;
+  const long a = testing::pmpi_allreduces(), o = testing::pmpi_other_collectives();
   const ReductionCounters before = sim.reduction_counters();
   Counted c;
   c.stats = sim.step();
-  c.allreduce = g_allreduce - a;
-  c.other = g_other_collectives - o;
+  c.allreduce = testing::pmpi_allreduces() - a;
+  c.other = testing::pmpi_other_collectives() - o;
   const ReductionCounters& after = sim.reduction_counters();
   c.layer = after.allreduces - before.allreduces + after.dot_allreduces - before.dot_allreduces;
   return c;
@@ -86,8 +61,9 @@ TEST(MethodCollectives, AsDocumentedPerMethod) {
     for (int frame = 0; frame < 2; ++frame) {
       const Counted c = count_step(sim);
       ASSERT_EQ(c.stats.iterations, kIterations) << method << ": the count assumes a full step";
-      if (std::string(method) == "lbfgs")
+      if (std::string(method) == "lbfgs") {
         ASSERT_EQ(c.stats.rollbacks, 0) << "the lbfgs count assumes no rollback";
+      }
       EXPECT_EQ(c.allreduce, expected_count(method, scene.solver.history))
           << method << " frame " << frame;
       EXPECT_EQ(c.layer, c.allreduce) << method;
@@ -118,14 +94,14 @@ TEST(MethodCollectives, NewtonAsDocumented) {
   Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
   Newton<double> newton(sim.problem(), scene.solver);
   BodyState<double> state = sim.state();
-  const long a = g_allreduce, o = g_other_collectives;
+  const long a = testing::pmpi_allreduces(), o = testing::pmpi_other_collectives();
   const StepStats stats = newton.step(state);
-  const long counted = g_allreduce - a;
+  const long counted = testing::pmpi_allreduces() - a;
   long expected = static_cast<long>(newton.gradient_norms().size());
   for (int cg : newton.cg_iterations()) expected += 1 + 2 * cg + 1;
   expected += stats.iterations + stats.rollbacks;  // line-search trials
   EXPECT_EQ(counted, expected);
-  EXPECT_EQ(g_other_collectives - o, 0);
+  EXPECT_EQ(testing::pmpi_other_collectives() - o, 0);
 }
 
 }  // namespace

@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "kernels/vertex.hpp"
-#include "solver/methods/optimized_init.hpp"
+#include "solver/step_control.hpp"
 
 namespace descent {
 
@@ -19,35 +19,16 @@ template <class Real>
 StepStats MethodBase<Real>::step(BodyState<Real>& state) {
   const double t_next = state.time + static_cast<double>(problem_.dt());
   problem_.begin_step(t_next);
-  // The prediction of q_{t+1} of paper 1, §4.4, as in ChebyshevDescent.
+  predict_positions(spec_, problem_, state, qt_.data(), y_.data(), q_.data());
   const Real h = problem_.dt();
-  const Real w_velocity = spec_.init == "position" ? Real(0) : Real(1);
-  const Real w_acceleration =
-      spec_.init == "constant_acceleration" ? static_cast<Real>(spec_.eta) : Real(0);
   const std::size_t n = q_.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    const Real qt = state.q[k], v = state.v[k];
-    qt_[k] = qt;
-    y_[k] = qt + h * v;
-    q_[k] = qt + h * (w_velocity * v + w_acceleration * (v - state.v_prev[k]));
-  }
-  if (spec_.init == "optimized") {  // Eq. 10
-    std::vector<Real> hv(n);
-    for (std::size_t k = 0; k < n; ++k) hv[k] = h * state.v[k];
-    const Real d =
-        static_cast<Real>(optimized_step_weight(problem_, qt_.data(), y_.data(), hv.data()));
-    for (std::size_t k = 0; k < n; ++k) q_[k] = qt_[k] + d * hv[k];
-  }
   problem_.hold_fixed(t_next, q_.data());
 
   StepStats stats;
   alpha_ = std::min(spec_.alpha_max, alpha_ / spec_.gamma);
-  first_check_ = true;
-  checked_finite_ = true;
-  checked_energy_ = 0;
-  initial_local_energy_ = problem_.energy_changes_within_step()
-                              ? Energy{}
-                              : problem_.local_energy(q_.data(), y_.data(), qt_.data());
+  check_ = EnergyCheck(problem_.energy_changes_within_step());
+  initial_local_energy_ =
+      check_.reevaluate() ? Energy{} : problem_.local_energy(q_.data(), y_.data(), qt_.data());
   q_checked_ = q_;
   report(0);
   iterate(stats);
@@ -60,7 +41,7 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
   }
   state.time = t_next;
   stats.alpha = alpha_;
-  if (stats.energy == 0) stats.energy = checked_energy_;
+  if (stats.energy == 0) stats.energy = check_.checked_energy();
   return stats;
 }
 
@@ -103,38 +84,21 @@ double MethodBase<Real>::local_weighted_norm2(const Real* a, const Real* d) cons
   return sum;
 }
 
-// As ChebyshevDescent's check: the initial guess's energy rides in the first
-// check's reduction; with conversion the checked state is re-evaluated under
-// the same interpolants; a rise within round-off is no rise.
+// The shared energy check (solver/step_control.hpp) after iteration k.
 template <class Real>
 typename MethodBase<Real>::Check MethodBase<Real>::check(int k, StepStats& stats) {
   const bool last = k + 1 == spec_.iterations;
   if ((k + 1) % spec_.check_interval != 0 && !last) return Check::none;
-  const bool reevaluate = problem_.energy_changes_within_step();
   const Energy local[2] = {problem_.local_energy(q_.data(), y_.data(), qt_.data()),
-                           reevaluate
+                           check_.reevaluate()
                                ? problem_.local_energy(q_checked_.data(), y_.data(), qt_.data())
                                : initial_local_energy_};
-  const EnergySums sums = problem_.global_energies(local, first_check_ || reevaluate ? 2 : 1);
-  if (first_check_ || reevaluate) {
-    checked_energy_ = sums.energy[1].value;
-    checked_finite_ = sums.finite[1];
-  }
-  if (first_check_) {
-    stats.initial_energy = checked_energy_;
-    first_check_ = false;
-  }
-  const double tolerance = 1024 * std::numeric_limits<Real>::epsilon() * sums.energy[0].magnitude;
-  stats.energy_tolerance = tolerance;
-  if (sums.finite[0] && (!checked_finite_ || sums.energy[0].value <= checked_energy_ + tolerance)) {
-    checked_energy_ = sums.energy[0].value;
-    checked_finite_ = true;
+  if (check_.accept<Real>(problem_.global_energies(local, check_.count()), stats)) {
     q_checked_ = q_;
     return Check::accepted;
   }
   q_ = q_checked_;
   ++stats.rollbacks;
-  if (!sums.finite[0]) ++stats.nonfinite_rollbacks;
   alpha_ *= spec_.gamma;
   if (alpha_ < spec_.alpha_min) {
     stats.stalled = true;

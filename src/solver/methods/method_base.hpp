@@ -15,6 +15,7 @@
 
 #include "io/scene.hpp"
 #include "solver/local_problem.hpp"
+#include "solver/step_control.hpp"
 #include "solver/stepper.hpp"
 
 namespace descent {
@@ -58,8 +59,7 @@ class MethodBase : public Stepper<Real> {
  private:
   const std::vector<std::uint8_t>& fixed_;
   // Step-control state of the current step.
-  bool first_check_ = true, checked_finite_ = true;
-  double checked_energy_ = 0;
+  EnergyCheck check_{false};
   Energy initial_local_energy_{};
 };
 

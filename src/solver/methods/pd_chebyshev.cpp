@@ -5,6 +5,7 @@
 #include "common/error.hpp"
 #include "kernels/projective_dynamics.hpp"
 #include "kernels/vertex.hpp"
+#include "solver/step_control.hpp"
 
 namespace descent {
 
@@ -45,12 +46,7 @@ void PdChebyshev<Real>::iterate(StepStats& stats) {
   int chebyshev_k = 0;
   for (int k = 0; k < this->spec_.iterations; ++k) {
     this->gradient(this->q_.data(), g_.data(), nullptr);
-    if (chebyshev_k < this->spec_.chebyshev_delay)
-      omega = 1;
-    else if (chebyshev_k == this->spec_.chebyshev_delay)
-      omega = Real(2) / (Real(2) - rho2);
-    else
-      omega = Real(4) / (Real(4) - rho2 * omega);
+    omega = chebyshev_omega(chebyshev_k, this->spec_.chebyshev_delay, rho2, omega);
     const Real alpha = static_cast<Real>(this->alpha_);
     Real* q = this->q_.data();
 #pragma omp parallel for schedule(static)

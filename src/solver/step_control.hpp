@@ -1,0 +1,104 @@
+#pragma once
+// The pieces of a time step that every descent method and every backend
+// share (paper 1, §4.3-4.4; DESIGN §1): the prediction of q_{t+1} that starts
+// the iteration, the Chebyshev weight recurrence, and the energy check that
+// accepts a trial state or sends the method back to the checked one.
+#include <cmath>
+#include <limits>
+
+#include "comm/reduction.hpp"
+#include "io/scene.hpp"
+#include "solver/local_problem.hpp"
+#include "solver/stepper.hpp"
+
+namespace descent {
+
+// Round-off scale of an energy summed from terms of total magnitude
+// `magnitude`, each term evaluated in Real: a generous multiple of Real's
+// epsilon (the terms are summed in double).
+template <class Real>
+double energy_roundoff(double magnitude) {
+  return 1024 * std::numeric_limits<Real>::epsilon() * magnitude;
+}
+
+// Chebyshev weight (paper 1, Eq. 8) for the iteration `since_restart`
+// iterations after Chebyshev last (re)started: 1 for the first `delay` (S)
+// plain iterations, then the recurrence from `omega`, the previous weight.
+template <class Real>
+Real chebyshev_omega(int since_restart, int delay, Real rho2, Real omega) {
+  if (since_restart < delay) return 1;
+  if (since_restart == delay) return Real(2) / (Real(2) - rho2);
+  return Real(4) / (Real(4) - rho2 * omega);
+}
+
+// The prediction of q_{t+1} (paper 1, §4.4) for solver.init: fills the
+// step-start positions qt, the inertial target y = q_t + h v and the initial
+// guess q (3 reals per local vertex, xyz-interleaved). The caller then puts
+// held axes where their motion says. init = "optimized" (Eq. 10) costs one
+// gradient, one Hessian product and one allreduce.
+template <class Real>
+void predict_positions(const SolverSpec& spec, LocalProblem<Real>& problem,
+                       const BodyState<Real>& state, Real* qt, Real* y, Real* q);
+
+// The energy check: eps is reduced every check_interval iterations and a
+// trial whose energy rose (or is not finite) is rejected. The initial guess
+// is the first checked state; its energy rides in the first check's
+// reduction. With model conversion the energy function itself moves as the
+// interpolants change (Eq. 17), so every check re-evaluates the checked
+// state too and compares both under the same interpolants; the pair still
+// travels in one allreduce.
+class EnergyCheck {
+ public:
+  explicit EnergyCheck(bool reevaluate) : reevaluate_(reevaluate) {}
+
+  // Whether the caller must evaluate the checked state's energy beside the
+  // trial's at every check (or only the initial guess's, once, up front).
+  bool reevaluate() const { return reevaluate_; }
+  // Energies the next check reduces: the trial's, and the checked state's
+  // when it is summed (the first check, or every check with reevaluate).
+  int count() const { return first_ || reevaluate_ ? 2 : 1; }
+
+  // Judges the trial from the reduced sums of count() energies (trial first)
+  // and records the check in `stats`. True: accepted, the trial becomes the
+  // checked state. False: the caller rolls back (a non-finite trial is
+  // counted in stats.nonfinite_rollbacks).
+  template <class Real>
+  bool accept(const EnergySums& sums, StepStats& stats) {
+    if (count() == 2) {
+      checked_energy_ = sums.energy[1].value;
+      checked_finite_ = sums.finite[1];
+    }
+    if (first_) {
+      stats.initial_energy = checked_energy_;
+      first_ = false;
+    }
+    // A rise within the round-off of the energy's evaluation is no rise: near
+    // the minimum it is noise, and reading it as a rise would shrink alpha
+    // for nothing.
+    const double tolerance = energy_roundoff<Real>(sums.energy[0].magnitude);
+    stats.energy_tolerance = tolerance;
+    if (sums.finite[0] &&
+        (!checked_finite_ || sums.energy[0].value <= checked_energy_ + tolerance)) {
+      checked_energy_ = sums.energy[0].value;
+      checked_finite_ = true;
+      return true;
+    }
+    if (!sums.finite[0]) ++stats.nonfinite_rollbacks;
+    return false;
+  }
+
+  double checked_energy() const { return checked_energy_; }
+  // False while no state with finite energy has been reached in the step (a
+  // non-finite checked state yields to any finite trial).
+  bool checked_finite() const { return checked_finite_; }
+
+ private:
+  bool reevaluate_;
+  bool first_ = true;
+  double checked_energy_ = 0;
+  bool checked_finite_ = true;
+};
+
+inline bool finite(const Energy& e) { return std::isfinite(e.value) && std::isfinite(e.magnitude); }
+
+}  // namespace descent
