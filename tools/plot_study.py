@@ -13,6 +13,7 @@ Needs matplotlib (Debian: /usr/bin/python3 with python3-matplotlib).
 """
 import argparse
 import csv
+import gzip
 import sys
 from collections import defaultdict
 from pathlib import Path
@@ -29,8 +30,14 @@ except ImportError as e:
 FLOOR = 1e-12
 
 
-def read(path):
-    with open(path) as f:
+def read(folder):
+    """study.csv of a folder, or study.csv.gz where a long study was archived
+    compressed in bench/results."""
+    plain = folder / "study.csv"
+    if not plain.exists() and (folder / "study.csv.gz").exists():
+        with gzip.open(folder / "study.csv.gz", "rt") as f:
+            return list(csv.DictReader(f))
+    with open(plain) as f:
         return list(csv.DictReader(f))
 
 
@@ -143,7 +150,7 @@ def main():
     name = args.name or ("frames" if args.frames else "study")
     rows = []
     for d in args.dirs:
-        rows += read(d / "study.csv")
+        rows += read(d)
     if args.cases:
         rows = [r for r in rows if r["case"] in args.cases]
     if not rows:
