@@ -10,20 +10,9 @@
 
 #include "app/simulation.hpp"
 #include "tests/mpi/gather_positions.hpp"
+#include "tests/mpi/mesh_extent.hpp"
 
 namespace descent::testing {
-
-inline double bounding_box_diagonal(const Mesh& mesh) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (index_t v = 0; v < mesh.num_vertices(); ++v)
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = std::min(lo[i], mesh.positions[3 * v + i]);
-      hi[i] = std::max(hi[i], mesh.positions[3 * v + i]);
-    }
-  double s = 0;
-  for (int i = 0; i < 3; ++i) s += (hi[i] - lo[i]) * (hi[i] - lo[i]);
-  return std::sqrt(s);
-}
 
 // Global positions (xyz by global id, on rank 0 of comm) after `frames`
 // steps of `scene` on `backend`; every step must stay finite.

@@ -8,6 +8,7 @@
 #include "gather_positions.hpp"
 #include "kernels/svd3.hpp"
 #include "kernels/tet.hpp"
+#include "mesh_extent.hpp"
 
 namespace descent::extremes {
 namespace {
@@ -80,17 +81,6 @@ double worst_stretch(const Mesh& mesh, const std::vector<double>& x) {
   return worst;
 }
 
-double bbox_diagonal(const Mesh& mesh) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (std::size_t k = 0; k < mesh.positions.size(); ++k) {
-    lo[k % 3] = std::min(lo[k % 3], mesh.positions[k]);
-    hi[k % 3] = std::max(hi[k % 3], mesh.positions[k]);
-  }
-  double d2 = 0;
-  for (int i = 0; i < 3; ++i) d2 += (hi[i] - lo[i]) * (hi[i] - lo[i]);
-  return std::sqrt(d2);
-}
-
 // "rank R: <culprit> = value" from the lowest rank whose scan found one.
 std::string gather_failure(MPI_Comm comm, const NonFiniteSite& site) {
   int rank = 0, size = 1;
@@ -118,7 +108,7 @@ Result run_case(MPI_Comm comm, const Case& c, int iterations, const std::string&
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   Result result;
-  result.bbox_diagonal = bbox_diagonal(c.mesh);
+  result.bbox_diagonal = testing::bounding_box_diagonal(c.mesh);
   Simulation<Real> sim(comm, scene, c.mesh);
   const LocalProblem<Real>& problem = sim.problem();
   if (c.start != Start::rest) sim.set_positions(start_positions(c));

@@ -13,6 +13,7 @@
 #include "app/simulation.hpp"
 #include "app/study_trace.hpp"
 #include "gather_positions.hpp"
+#include "mesh_extent.hpp"
 #include "small_scenes.hpp"
 #include "solver/methods/newton.hpp"
 
@@ -155,25 +156,13 @@ TEST(Methods, ChebyshevIsTenTimesBelowGradientDescentAfter96Iterations) {
   EXPECT_LE(chebyshev * 10, gd);
 }
 
-double bounding_box_diagonal(const Mesh& mesh) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (index_t v = 0; v < mesh.num_vertices(); ++v)
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = std::min(lo[i], mesh.positions[3 * v + i]);
-      hi[i] = std::max(hi[i], mesh.positions[3 * v + i]);
-    }
-  double s = 0;
-  for (int i = 0; i < 3; ++i) s += (hi[i] - lo[i]) * (hi[i] - lo[i]);
-  return std::sqrt(s);
-}
-
 // 3 frames of each method on all ranks against 1 rank. Methods without inner
 // products differ only by the energy sums' order; those with them also by
 // the order of each inner product's terms, amplified by their recurrences.
 TEST(Methods, DistributedRunsAgreeWithOneRank) {
   Scene scene = testing::small_helix_scene();
   const Mesh mesh = build_scene_mesh(scene.mesh);
-  const double diagonal = bounding_box_diagonal(mesh);
+  const double diagonal = testing::bounding_box_diagonal(mesh);
   std::vector<const char*> methods(std::begin(kMethods), std::end(kMethods));
   methods.push_back("pd_chebyshev");
   for (const char* method : methods) {

@@ -10,21 +10,11 @@
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
 #include "gather_positions.hpp"
+#include "mesh_extent.hpp"
 #include "small_scenes.hpp"
 
 namespace descent {
 namespace {
-
-double bounding_box_diagonal(const Mesh& mesh) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (index_t v = 0; v < mesh.num_vertices(); ++v)
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = std::min(lo[i], mesh.positions[3 * v + i]);
-      hi[i] = std::max(hi[i], mesh.positions[3 * v + i]);
-    }
-  return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                   (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
 
 // Number of shared vertices whose positions differ in any bit from a
 // neighbour's copy (exchanged directly, by global-id order of the lists).
@@ -79,7 +69,7 @@ TEST(RankInvariance, SmallHelixTenFramesMatchesOneRank) {
       worst = std::max(worst, std::abs(got[k] - want[k]));
       moved = std::max(moved, std::abs(want[k] - mesh.positions[k]));
     }
-    const double diagonal = bounding_box_diagonal(mesh);
+    const double diagonal = testing::bounding_box_diagonal(mesh);
     EXPECT_GT(moved, 1e-3 * diagonal) << "the helix should sag visibly under gravity";
     EXPECT_LE(worst, 1e-9 * diagonal) << size << " ranks vs 1 rank after " << kFrames << " frames";
     std::printf(

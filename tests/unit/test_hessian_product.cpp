@@ -17,32 +17,14 @@
 #include "kernels/neo_hookean.hpp"
 #include "kernels/projective_dynamics.hpp"
 #include "kernels/stvk.hpp"
+#include "random_element.hpp"
 
 namespace descent {
 namespace {
 
 using Rng = std::mt19937_64;
 
-struct Element {
-  TetRest<double> rest;
-  TetCorners<double> x;
-};
-
-Element random_element(Rng& rng, double amp) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Vec3<double> base[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  for (;;) {
-    TetCorners<double> rest_x, x;
-    for (int a = 0; a < 4; ++a) {
-      rest_x.x[a] = {base[a].x + 0.2 * u(rng), base[a].y + 0.2 * u(rng), base[a].z + 0.2 * u(rng)};
-      x.x[a] = {rest_x.x[a].x + amp * u(rng), rest_x.x[a].y + amp * u(rng),
-                rest_x.x[a].z + amp * u(rng)};
-    }
-    const TetRest<double> rest = tet_rest(rest_x.x[0], rest_x.x[1], rest_x.x[2], rest_x.x[3]);
-    const double j = det(deformation_gradient(x.x[0], x.x[1], x.x[2], x.x[3], rest.dm_inv));
-    if (rest.volume > 0.05 && j >= 0.2) return {rest, x};
-  }
-}
+using testing::random_element;
 
 template <class Model>
 void check_model(const Model& model, const char* name) {
@@ -51,7 +33,7 @@ void check_model(const Model& model, const char* name) {
   double worst_fd = 0, worst_matrix = 0;
   for (double amp : {0.02, 0.2, 0.5}) {
     for (int sample = 0; sample < 300; ++sample) {
-      const Element e = random_element(rng, amp);
+      const testing::ElementCase e = random_element(rng, amp);
       Vec3<double> p[4], hp[4];
       for (auto& v : p) v = {u(rng), u(rng), u(rng)};
       element_hessian_product(model, e.rest, e.x, p, hp);
@@ -116,7 +98,7 @@ TEST(ProjectiveDynamics, DiagonalIsTheCurvatureOfTheQuadraticEnergy) {
   const Mat3<double> r = {{0.36, 0.48, -0.8, -0.8, 0.6, 0.0, 0.48, 0.64, 0.6}};  // a rotation
   double worst = 0;
   for (int sample = 0; sample < 200; ++sample) {
-    const Element e = random_element(rng, 0.3);
+    const testing::ElementCase e = random_element(rng, 0.3);
     auto energy = [&](const TetCorners<double>& x) {
       const Mat3<double> f = deformation_gradient(x.x[0], x.x[1], x.x[2], x.x[3], e.rest.dm_inv);
       double s = 0;

@@ -23,6 +23,7 @@
 #include "kernels/mooney_rivlin.hpp"
 #include "kernels/neo_hookean.hpp"
 #include "kernels/stvk.hpp"
+#include "random_element.hpp"
 #include "random_rotation.hpp"
 
 namespace descent {
@@ -155,28 +156,8 @@ double norm(const double* a, int n) {
   return std::sqrt(s);
 }
 
-struct ElementCase {
-  TetRest<double> rest;
-  TetCorners<double> x;
-};
-
-// A random tet with positive rest volume, deformed by corner moves of size
-// `amp` until det F lies in [det_min, det_max].
-ElementCase random_element(Rng& rng, double amp, double det_min = 0.2, double det_max = 1e30) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Vec3<double> base[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  for (;;) {
-    TetCorners<double> rest_x, x;
-    for (int a = 0; a < 4; ++a) {
-      rest_x.x[a] = {base[a].x + 0.2 * u(rng), base[a].y + 0.2 * u(rng), base[a].z + 0.2 * u(rng)};
-      x.x[a] = {rest_x.x[a].x + amp * u(rng), rest_x.x[a].y + amp * u(rng),
-                rest_x.x[a].z + amp * u(rng)};
-    }
-    const TetRest<double> rest = tet_rest(rest_x.x[0], rest_x.x[1], rest_x.x[2], rest_x.x[3]);
-    const double j = det(deformation_gradient(x.x[0], x.x[1], x.x[2], x.x[3], rest.dm_inv));
-    if (rest.volume > 0.05 && j >= det_min && j <= det_max) return {rest, x};
-  }
-}
+using testing::ElementCase;
+using testing::random_element;
 
 double& coord(TetCorners<double>& c, int a, int i) {
   return i == 0 ? c.x[a].x : (i == 1 ? c.x[a].y : c.x[a].z);
