@@ -120,15 +120,7 @@ StepStats DeviceChebyshev<Real>::step(BodyState<Real>& state) {
   }
 
   engine_->download(false);
-  const Real inv_h = Real(1) / problem_.dt();
-  const std::size_t n = n_;
-#pragma omp parallel for schedule(static)
-  for (std::size_t k = 0; k < n; ++k) {
-    state.v_prev[k] = state.v[k];
-    state.v[k] = (q_[k] - qt_[k]) * inv_h;
-    state.q[k] = q_[k];
-  }
-  state.time = t_next;
+  commit_step(q_, qt_, problem_.dt(), t_next, state);
   stats.alpha = alpha_;
   stats.energy = check.checked_energy();
   return stats;

@@ -121,14 +121,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     return stats;
   }
 
-  const Real inv_h = Real(1) / problem_.dt();
-#pragma omp parallel for schedule(static)
-  for (std::size_t k = 0; k < n; ++k) {
-    state.v_prev[k] = state.v[k];
-    state.v[k] = (q_[k] - qt_[k]) * inv_h;
-    state.q[k] = q_[k];
-  }
-  state.time = t_next;
+  commit_step(q_.data(), qt_.data(), problem_.dt(), t_next, state);
   stats.alpha = alpha_;
   stats.energy = check.checked_energy();
   return stats;

@@ -40,6 +40,22 @@ template <class Real>
 void predict_positions(const SolverSpec& spec, LocalProblem<Real>& problem,
                        const BodyState<Real>& state, Real* qt, Real* y, Real* q);
 
+// Ends a step at its result q (3 reals per local vertex): implicit Euler's
+// velocity v = (q - q_t) / h, the previous velocity kept for the next
+// prediction, and the clock advanced to t_next.
+template <class Real>
+void commit_step(const Real* q, const Real* qt, Real h, double t_next, BodyState<Real>& state) {
+  const Real inv_h = Real(1) / h;
+  const std::size_t n = state.q.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < n; ++k) {
+    state.v_prev[k] = state.v[k];
+    state.v[k] = (q[k] - qt[k]) * inv_h;
+    state.q[k] = q[k];
+  }
+  state.time = t_next;
+}
+
 // The energy check: eps is reduced every check_interval iterations and a
 // trial whose energy rose (or is not finite) is rejected. The initial guess
 // is the first checked state; its energy rides in the first check's

@@ -20,8 +20,6 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
   const double t_next = state.time + static_cast<double>(problem_.dt());
   problem_.begin_step(t_next);
   predict_positions(spec_, problem_, state, qt_.data(), y_.data(), q_.data());
-  const Real h = problem_.dt();
-  const std::size_t n = q_.size();
   problem_.hold_fixed(t_next, q_.data());
 
   StepStats stats;
@@ -33,13 +31,7 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
   report(0);
   iterate(stats);
 
-  const Real inv_h = Real(1) / h;
-  for (std::size_t k = 0; k < n; ++k) {
-    state.v_prev[k] = state.v[k];
-    state.v[k] = (q_[k] - qt_[k]) * inv_h;
-    state.q[k] = q_[k];
-  }
-  state.time = t_next;
+  commit_step(q_.data(), qt_.data(), problem_.dt(), t_next, state);
   stats.alpha = alpha_;
   if (stats.energy == 0) stats.energy = check_.checked_energy();
   return stats;
