@@ -126,6 +126,18 @@ struct SolverSpec {
   int newton_iterations = 50;
   double cg_tolerance = 1e-10;
   int cg_iterations = 20000;
+  // newton's linear solver: "cg" (the PCG above, distributed) or "ldlt"
+  // (Eigen's sparse LDL^T of the assembled Hessian, gathered on rank 0).
+  std::string newton_solver = "cg";
+  // linear_cg (paper 2; solver/methods/linear_cg.hpp): linearly implicit
+  // Euler (M(1 + h c) + (h^2 + h beta) K) v = M v_t + h (f_el + f_ext) with
+  // the corotated stiffness K, solved by PCG for at most `iterations`
+  // iterations or until r.r <= linear_cg_tolerance b.b.
+  std::string linear_cg_guess = "velocity";         // "zero", "velocity", "euler" (v_t + h M^-1 f)
+  std::string linear_cg_preconditioner = "jacobi";  // "identity", "mass", "jacobi"
+  double linear_cg_tolerance = 1e-10;
+  int polar_sweeps = 4;             // 2x2 Jacobi sweeps of the polar decomposition, at most
+  double rayleigh_stiffness = 0.0;  // beta (s): stiffness-proportional Rayleigh damping
 };
 
 struct OutputSpec {

@@ -151,6 +151,37 @@ void check_box(const SceneDocument& doc, const BoxParams& box) {
           box.tets_per_cell);
 }
 
+// Paper 2's method is linearly implicit Euler on corotated elements: it needs
+// a time step (no quasi-static solve) and the corotated model as it stands.
+void check_linear_cg(const SceneDocument& doc, const Scene& scene) {
+  const SolverSpec& solver = scene.solver;
+  require_one_of(doc, "solver.linear_cg_guess", solver.linear_cg_guess,
+                 {"zero", "velocity", "euler"});
+  require_one_of(doc, "solver.linear_cg_preconditioner", solver.linear_cg_preconditioner,
+                 {"identity", "mass", "jacobi"});
+  require(doc, solver.linear_cg_tolerance >= 0, "solver.linear_cg_tolerance", ">= 0",
+          solver.linear_cg_tolerance);
+  require(doc, solver.polar_sweeps >= 1, "solver.polar_sweeps", ">= 1", solver.polar_sweeps);
+  require(doc, solver.rayleigh_stiffness >= 0, "solver.rayleigh_stiffness", ">= 0",
+          solver.rayleigh_stiffness);
+  if (solver.method != "linear_cg") {
+    if (solver.rayleigh_stiffness != 0)
+      throw InputError(detail::concat(doc.where("solver.rayleigh_stiffness"),
+                                      ": solver.rayleigh_stiffness applies to solver.method = "
+                                      "linear_cg only (the descent methods minimise eps, which "
+                                      "has no stiffness damping)"));
+    return;
+  }
+  if (scene.material.model != "corotated" || scene.material.conversion.enabled)
+    throw InputError(detail::concat(doc.where("solver.method"),
+                                    ": solver.method = linear_cg needs material.model = "
+                                    "\"corotated\" and material.conversion.enabled = false"));
+  if (scene.time.quasistatic)
+    throw InputError(detail::concat(doc.where("solver.method"),
+                                    ": solver.method = linear_cg integrates in time and needs "
+                                    "time.quasistatic = false"));
+}
+
 }  // namespace
 
 void check_mesh_source(const SceneDocument& doc, const Scene& scene) {
@@ -221,9 +252,9 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require(doc, scene.time.frames >= 0, "time.frames", ">= 0", scene.time.frames);
 
   const SolverSpec& solver = scene.solver;
-  require_one_of(
-      doc, "solver.method", solver.method,
-      {"chebyshev", "gd", "jacobi_gd", "nesterov", "ncg", "lbfgs", "newton", "pd_chebyshev"});
+  require_one_of(doc, "solver.method", solver.method,
+                 {"chebyshev", "gd", "jacobi_gd", "nesterov", "ncg", "lbfgs", "newton",
+                  "pd_chebyshev", "linear_cg"});
   // Projective dynamics is defined for the arap energy only (its constant
   // global matrix comes from |F - R|^2).
   if (solver.method == "pd_chebyshev" &&
@@ -252,6 +283,8 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require_one_of(doc, "solver.newton_projection", solver.newton_projection, {"fallback", "always"});
   require(doc, solver.cg_tolerance > 0, "solver.cg_tolerance", "> 0", solver.cg_tolerance);
   require(doc, solver.cg_iterations >= 1, "solver.cg_iterations", ">= 1", solver.cg_iterations);
+  require_one_of(doc, "solver.newton_solver", solver.newton_solver, {"cg", "ldlt"});
+  check_linear_cg(doc, scene);
   require(doc, solver.iterations >= 1, "solver.iterations", ">= 1", solver.iterations);
   require(doc, solver.rho >= 0 && solver.rho < 1, "solver.rho", "in [0, 1)", solver.rho);
   require(doc, solver.chebyshev_delay >= 0, "solver.chebyshev_delay", ">= 0",

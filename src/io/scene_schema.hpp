@@ -75,6 +75,12 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("solver.newton_projection", solver.newton_projection);
   visit("solver.cg_tolerance", solver.cg_tolerance);
   visit("solver.cg_iterations", solver.cg_iterations);
+  visit("solver.newton_solver", solver.newton_solver);
+  visit("solver.linear_cg_guess", solver.linear_cg_guess);
+  visit("solver.linear_cg_preconditioner", solver.linear_cg_preconditioner);
+  visit("solver.linear_cg_tolerance", solver.linear_cg_tolerance);
+  visit("solver.polar_sweeps", solver.polar_sweeps);
+  visit("solver.rayleigh_stiffness", solver.rayleigh_stiffness);
 
   visit("output.dir", scene.output.dir);
   visit("output.every", scene.output.every);

@@ -2,6 +2,7 @@
 #include "solver/chebyshev_descent.hpp"
 #include "solver/methods/gradient_descent.hpp"
 #include "solver/methods/lbfgs.hpp"
+#include "solver/methods/linear_cg.hpp"
 #include "solver/methods/nesterov.hpp"
 #include "solver/methods/newton.hpp"
 #include "solver/methods/nonlinear_cg.hpp"
@@ -21,6 +22,7 @@ std::unique_ptr<Stepper<Real>> make_stepper(LocalProblem<Real>& problem, const S
   if (spec.method == "lbfgs") return std::make_unique<Lbfgs<Real>>(problem, spec);
   if (spec.method == "newton") return std::make_unique<Newton<Real>>(problem, spec);
   if (spec.method == "pd_chebyshev") return std::make_unique<PdChebyshev<Real>>(problem, spec);
+  if (spec.method == "linear_cg") return std::make_unique<LinearCg<Real>>(problem, spec);
   // The scene checks admit only the methods listed here.
   throw LogicError(detail::concat("no stepper for solver.method = ", spec.method));
 }

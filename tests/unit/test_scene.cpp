@@ -632,6 +632,26 @@ TEST(Scene, MethodKeysAreChecked) {
   expect_has(error_of(std::string(kBoxScene) +
                       "[material]\nconversion.enabled = true\n[solver]\nmethod = \"newton\"\n"),
              "solver.method = newton needs material.conversion.enabled = false");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nmethod = \"linear_cg\"\n"),
+             "solver.method = linear_cg needs material.model = \"corotated\"");
+  expect_has(error_of(std::string(kBoxScene) +
+                      "[material]\nmodel = \"corotated\"\n[time]\nquasistatic = true\n"
+                      "[solver]\nmethod = \"linear_cg\"\n"),
+             "solver.method = linear_cg integrates in time and needs time.quasistatic = false");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nrayleigh_stiffness = 0.01\n"),
+             "solver.rayleigh_stiffness applies to solver.method = linear_cg only");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nlinear_cg_guess = \"last\"\n"),
+             "solver.linear_cg_guess must be one of \"zero\", \"velocity\", \"euler\", got "
+             "\"last\"");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\npolar_sweeps = 0\n"),
+             "solver.polar_sweeps must be >= 1, got 0");
+  const Scene linear = parse_scene(std::string(kBoxScene) +
+                                       "[material]\nmodel = \"corotated\"\n[solver]\n"
+                                       "method = \"linear_cg\"\nlinear_cg_preconditioner = "
+                                       "\"mass\"\nrayleigh_stiffness = 0.02\n",
+                                   "scene.toml");
+  EXPECT_EQ(linear.solver.linear_cg_preconditioner, "mass");
+  EXPECT_EQ(linear.solver.rayleigh_stiffness, 0.02);
   const Scene phases = parse_scene(
       std::string(kBoxScene) + "[solver]\nphase_rho = [0.9, 0.99]\nphase_lengths = [24]\n",
       "scene.toml");
@@ -648,7 +668,7 @@ TEST(Scene, ChoicesListTheValidNames) {
              "\"rotate\", got \"spin\"");
   expect_has(error_of(std::string(kBoxScene) + "[solver]\nmethod = \"jacobi\"\n"),
              "solver.method must be one of \"chebyshev\", \"gd\", \"jacobi_gd\", \"nesterov\", "
-             "\"ncg\", \"lbfgs\", \"newton\", \"pd_chebyshev\", got \"jacobi\"");
+             "\"ncg\", \"lbfgs\", \"newton\", \"pd_chebyshev\", \"linear_cg\", got \"jacobi\"");
   expect_has(error_of(std::string(kBoxScene) + "[solver]\ninit = \"guess\"\n"),
              "solver.init must be one of \"constant_acceleration\", \"position\", \"velocity\"");
   expect_has(error_of("[mesh]\ngenerator = \"sphere\"\n"),

@@ -9,8 +9,12 @@
 namespace descent {
 
 template <class Real>
-MethodBase<Real>::MethodBase(LocalProblem<Real>& problem, const SolverSpec& spec)
-    : problem_(problem), spec_(spec), alpha_(spec.alpha_max), fixed_(problem.fixed_axes()) {
+MethodBase<Real>::MethodBase(LocalProblem<Real>& problem, const SolverSpec& spec, bool own_guess)
+    : problem_(problem),
+      spec_(spec),
+      alpha_(spec.alpha_max),
+      fixed_(problem.fixed_axes()),
+      own_guess_(own_guess) {
   const std::size_t n = 3 * static_cast<std::size_t>(problem.num_vertices());
   for (auto* v : {&y_, &qt_, &q_, &q_checked_}) v->resize(n);
 }
@@ -25,11 +29,18 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
   StepStats stats;
   alpha_ = std::min(spec_.alpha_max, alpha_ / spec_.gamma);
   check_ = EnergyCheck(problem_.energy_changes_within_step());
-  initial_local_energy_ =
-      check_.reevaluate() ? Energy{} : problem_.local_energy(q_.data(), y_.data(), qt_.data());
-  q_checked_ = q_;
-  report(0);
+  if (!own_guess_) {
+    initial_local_energy_ =
+        check_.reevaluate() ? Energy{} : problem_.local_energy(q_.data(), y_.data(), qt_.data());
+    q_checked_ = q_;
+    report(0);
+  }
+  step_velocity_ = state.v.data();
   iterate(stats);
+  step_velocity_ = nullptr;
+  // No state with finite energy: the body keeps the step's start (the last
+  // good state) and the caller stops the run.
+  if (!stats.finite) return stats;
 
   commit_step(q_.data(), qt_.data(), problem_.dt(), t_next, state);
   stats.alpha = alpha_;

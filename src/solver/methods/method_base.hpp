@@ -23,7 +23,10 @@ namespace descent {
 template <class Real>
 class MethodBase : public Stepper<Real> {
  public:
-  MethodBase(LocalProblem<Real>& problem, const SolverSpec& spec);
+  // own_guess: the method replaces the predicted initial guess by its own in
+  // iterate() (and observes it there as iteration 0); the energy check's
+  // initial state is then not evaluated.
+  MethodBase(LocalProblem<Real>& problem, const SolverSpec& spec, bool own_guess = false);
   StepStats step(BodyState<Real>& state) final;
   double alpha() const override { return alpha_; }
   void set_alpha(double alpha) override { alpha_ = alpha; }
@@ -45,6 +48,8 @@ class MethodBase : public Stepper<Real> {
   double local_weighted_norm2(const Real* a, const Real* d) const;
   void report(int k) const { this->observe(k, q_.data(), y_.data(), qt_.data()); }
   bool held(std::size_t dof) const { return fixed_[dof / 3] & (1u << (dof % 3)); }
+  // v_t of the step being taken (3 per local vertex), valid inside iterate().
+  const Real* step_velocity() const { return step_velocity_; }
   std::size_t size() const { return q_.size(); }
 
   // The energy check after iteration k (0-based).
@@ -58,6 +63,8 @@ class MethodBase : public Stepper<Real> {
 
  private:
   const std::vector<std::uint8_t>& fixed_;
+  const Real* step_velocity_ = nullptr;
+  bool own_guess_;
   // Step-control state of the current step.
   EnergyCheck check_{false};
   Energy initial_local_energy_{};
