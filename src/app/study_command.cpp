@@ -152,7 +152,7 @@ int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::st
   if (rank == 0) {
     std::filesystem::create_directories(options.out_dir);
     std::ofstream(csv)
-        << "ranks,frame,case,method,k,energy,rel_error,ms,collectives,reduce_ms,cpu_ms\n";
+        << "ranks,frame,case,method,k,energy,rel_error,ms,collectives,reduce_ms,cpu_ms,kinetic\n";
     std::ofstream(pareto) << "ranks,frame,level,case,k,ms\n";
     if (!options.quiet)
       std::fprintf(stderr, "study: %d tets, %d ranks, %zu cases, %d measured frame(s)\n",
@@ -204,7 +204,8 @@ int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::st
         const IterationRecord& i = r.records[k];
         out << ranks << ',' << frame << ',' << r.label << ',' << r.spec.method << ',' << i.k << ','
             << i.energy << ',' << r.errors[k] << ',' << 1e3 * i.seconds << ',' << i.collectives
-            << ',' << 1e3 * i.reduce_seconds << ',' << 1e3 * i.cpu_seconds << '\n';
+            << ',' << 1e3 * i.reduce_seconds << ',' << 1e3 * i.cpu_seconds << ',' << i.kinetic
+            << '\n';
       }
     write_pareto(pareto, results, ranks, frame);
   }

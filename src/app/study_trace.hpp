@@ -22,6 +22,9 @@ struct IterationRecord {
   // Rank 0's processor time over the same span: on a machine shared with
   // other jobs the wall time measures the load too, this much less so.
   double cpu_seconds = 0;
+  // Kinetic energy sum m |v_k|^2 / 2 of the iterate's velocity v_k = (q_k - q_t)/h
+  // (paper 2, Fig. 3), all ranks.
+  double kinetic = 0;
 };
 
 struct StepTrace {

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Paper 2 (Dahl & Bargteil 2019) with our numbers, on the corotated helix
+# (41k; the method needs the corotated model) and the armadillo when
+# ../shared/meshes is present:
+#  Table 1: ms/frame of linear_cg at 1, 2, 5, 10 CG iterations and at
+#    convergence (r.r <= 1e-10 b.b) for the three initial guesses (Jacobi),
+#    with the mean iterations to converge and each run's distance from the
+#    converged run (guess v_t) over the whole sequence; chebyshev (96) beside.
+#    At paper 1's h = 1/30 s and at paper 2's h = 1/150 s.
+#  Fig. 3/4: kinetic energy over the CG iterations of one solve for every
+#    guess and preconditioner (descent study, its `kinetic` column).
+#   jobs/study/linear_cg.sh        (PRESET=41k by default here)
+PRESET=${PRESET:-41k}
+source "$(dirname "$0")/common.sh"
+corotated=(--set 'material.model="corotated"' --set 'solver.method="linear_cg"')
+
+# Table 1: runs of FRAMES frames, one per guess and budget, into $1/NAME.
+table() {
+  local out=$1 frames=$2
+  shift 2
+  local scene=("$@")
+  mkdir -p "$out"
+  machine "(one run per guess and budget) $DESCENT run ${scene[*]} ${corotated[*]}" > "$out/machine.txt"
+  for guess in zero velocity euler; do
+    for budget in 1 2 5 10 conv; do
+      local its=$budget
+      [ "$budget" = conv ] && its=100000
+      echo "linear_cg.sh: $out: guess $guess, budget $budget" >&2
+      $MPIEXEC -n 1 "$DESCENT" run "${scene[@]}" "${corotated[@]}" --overwrite \
+        --set "time.frames=$frames" --set "solver.iterations=$its" \
+        --set "solver.linear_cg_guess=\"$guess\"" --set "output.dir=\"$out/${guess}_$budget\"" \
+        --set "output.checkpoint_every=0" > "$out/${guess}_$budget.log"
+    done
+  done
+}
+
+table "$RESULTS/linear_cg_${PRESET}/h30" 30 "${helix[@]}"
+echo "linear_cg.sh: chebyshev beside (h = 1/30)" >&2
+$MPIEXEC -n 1 "$DESCENT" run "${helix[@]}" --set 'material.model="corotated"' --overwrite \
+  --set time.frames=30 --set "output.dir=\"$RESULTS/linear_cg_${PRESET}/h30/chebyshev\"" \
+  --set "output.checkpoint_every=0" > "$RESULTS/linear_cg_${PRESET}/h30/chebyshev.log"
+table "$RESULTS/linear_cg_${PRESET}/h150" 150 "${helix[@]}" --set "time.dt=$(echo 'print(1/150)' | $PYTHON)"
+for h in h30 h150; do
+  $PYTHON tools/linear_cg_table.py "$RESULTS/linear_cg_${PRESET}/$h" \
+    > "$RESULTS/linear_cg_${PRESET}/$h/table1.md"
+done
+
+# Fig. 3/4: one solve after 10 frames, every guess x preconditioner.
+out="$RESULTS/linear_cg_${PRESET}/kinetic"
+mkdir -p "$out"
+cases=(--case newton)
+for p in identity mass jacobi; do
+  for guess in zero velocity euler; do
+    cases+=(--case "${p}_${guess}:method=linear_cg linear_cg_preconditioner=\"$p\" linear_cg_guess=\"$guess\" iterations=400")
+  done
+done
+cmd=($MPIEXEC -n 1 "$DESCENT" study "${helix[@]}" "${corotated[@]}" --warmup 10 --repeats 3
+     "${cases[@]}" --study-out "$out")
+machine "${cmd[*]}" > "$out/machine.txt"
+"${cmd[@]}" 2> "$out/progress.log"
+$PYTHON tools/plot_kinetic.py "$out" --title "linear_cg, one solve, helix $PRESET (corotated, h = 1/30 s)"
+
+mesh=../shared/meshes/armadillo_10k.node
+if [ ! -f "$mesh" ]; then
+  echo "linear_cg.sh: $mesh not found (../shared/meshes absent): armadillo skipped" >&2
+  exit 0
+fi
+table "$RESULTS/linear_cg_armadillo/h30" 30 jobs/study/armadillo.toml
+$PYTHON tools/linear_cg_table.py "$RESULTS/linear_cg_armadillo/h30" \
+  > "$RESULTS/linear_cg_armadillo/h30/table1.md"
