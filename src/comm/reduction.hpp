@@ -4,6 +4,7 @@
 // MPI_Allreduce (no second collective for the NaN check).
 #include <mpi.h>
 
+#include <cstdint>
 #include <vector>
 
 namespace descent {
@@ -30,6 +31,10 @@ struct ReductionCounters {
   // MPI_Allreduce each, possibly several values fused).
   long dot_allreduces = 0;
   double seconds = 0;
+  // Newton's direct solver (newton_solver = "ldlt"): gathers to rank 0 and
+  // scatters from it (MPI_Gather/Gatherv, MPI_Scatterv), never allreduces.
+  long root_gathers = 0;
+  long root_scatters = 0;
 };
 
 class EnergyReduction {
@@ -46,6 +51,23 @@ class EnergyReduction {
   void sum_dots(double* values, int count);
   // The maximum of `value` over all ranks: one MPI_Allreduce, counted as a dot.
   double max_of(double value);
+
+  // For Newton's direct solver (solver/methods/newton_ldlt.hpp), which
+  // assembles the global system on rank 0. Each is one collective, counted
+  // in root_gathers or root_scatters. `counts` (values per rank, rank order)
+  // is read on rank 0 only; blocks lie in rank order without gaps.
+  // Rank 0's count of each rank's values (MPI_Gather); empty on other ranks.
+  std::vector<int> gather_counts(int count);
+  // Every rank's `count` values, concatenated on rank 0 (MPI_Gatherv); recv
+  // is resized on rank 0 and untouched elsewhere.
+  void gather_to_root(const double* send, int count, const std::vector<int>& counts,
+                      std::vector<double>& recv);
+  void gather_to_root(const std::int32_t* send, int count, const std::vector<int>& counts,
+                      std::vector<std::int32_t>& recv);
+  // Rank r receives its block of rank 0's `send` into recv[0, count)
+  // (MPI_Scatterv); send is read on rank 0 only.
+  void scatter_from_root(const std::vector<double>& send, const std::vector<int>& counts,
+                         double* recv, int count);
 
   const ReductionCounters& counters() const { return counters_; }
 

@@ -104,6 +104,10 @@ class LocalProblem {
     return reduction_.sum(local, count);
   }
 
+  // The gathers to rank 0 and scatters from it of Newton's direct solver
+  // (solver/methods/newton_ldlt.hpp); no other method uses them.
+  EnergyReduction& reduction() { return reduction_; }
+
  private:
   const LocalMesh& mesh_;
   Halo<Real>& halo_;

@@ -28,6 +28,11 @@ class HessianOperator {
   void assemble(const Real* q, bool project);
   void apply(const Real* p, Real* out);
   const std::vector<Real>& diagonal() const { return diagonal_; }
+  // The stored element Hessians (144 per local tet, row-major, rows and
+  // columns in corner order: the tet's 4 vertices x xyz) and the vertex
+  // terms' curvature m (1/h^2 + c/h) per dof, for Newton's direct solver.
+  const std::vector<Real>& element_hessians() const { return hessians_; }
+  const std::vector<Real>& vertex_curvature() const { return vertex_curvature_; }
 
  private:
   // out += vertex terms p; out = 0 on held dofs.

@@ -9,6 +9,8 @@ template <class Real>
 Newton<Real>::Newton(LocalProblem<Real>& problem, const SolverSpec& spec)
     : MethodBase<Real>(problem, spec), hessian_(problem) {
   for (auto* v : {&g_, &dq_, &r_, &z_, &p_, &ap_, &trial_}) v->assign(this->size(), Real(0));
+  // Collective set-up (gathers to rank 0): every rank builds its Newton alike.
+  if (spec.newton_solver == "ldlt") ldlt_ = std::make_unique<NewtonLdlt<Real>>(problem, hessian_);
 }
 
 template <class Real>
@@ -70,13 +72,19 @@ void Newton<Real>::iterate(StepStats& stats) {
     if (norm <= this->spec_.newton_tolerance * g0 || k == this->spec_.newton_iterations) break;
 
     // The exact Hessian first (quadratic convergence); the projected one when
-    // CG meets non-positive curvature or the result is no descent direction.
+    // CG meets non-positive curvature (LDL^T: a D entry <= 0) or the result
+    // is no descent direction.
     bool project = this->spec_.newton_projection == "always";
     double slope = 0;
     for (;;) {
       hessian_.assemble(this->q_.data(), project);
       bool positive = true;
-      cg_iterations_.push_back(solve(gg, positive));
+      if (ldlt_) {
+        positive = ldlt_->solve(g_.data(), dq_.data());
+        cg_iterations_.push_back(0);
+      } else {
+        cg_iterations_.push_back(solve(gg, positive));
+      }
       slope = this->local_dot(g_.data(), dq_.data());
       this->problem_.global_dots(&slope, 1);
       if ((positive && slope < 0) || project) break;

@@ -10,10 +10,15 @@
 // iteration ([r.z, r.r] fused, p.Ap) and 1 (g.dq) (a second solve when the
 // exact one falls back), and one energy reduction per line-search trial (the
 // first carries eps(q) too).
+// With solver.newton_solver = "ldlt" the system is instead assembled and
+// factored on rank 0 (newton_ldlt.hpp): per linear solve 1 MPI_Gatherv + 1
+// MPI_Scatterv in place of CG's allreduces, then the same 1 (g.dq).
+#include <memory>
 #include <vector>
 
 #include "solver/methods/hessian_operator.hpp"
 #include "solver/methods/method_base.hpp"
+#include "solver/methods/newton_ldlt.hpp"
 
 namespace descent {
 
@@ -23,7 +28,8 @@ class Newton final : public MethodBase<Real> {
   Newton(LocalProblem<Real>& problem, const SolverSpec& spec);
 
   // |grad eps| (owned free dofs, all ranks) at every Newton iterate of the
-  // last step, the initial guess first; and the CG iterations per solve.
+  // last step, the initial guess first; and the CG iterations per solve
+  // (0 for an "ldlt" solve: no CG iteration, no CG collective).
   const std::vector<double>& gradient_norms() const { return gradient_norms_; }
   const std::vector<int>& cg_iterations() const { return cg_iterations_; }
   // Newton iterations whose exact system was replaced by the projected one.
@@ -34,6 +40,7 @@ class Newton final : public MethodBase<Real> {
   // PCG for H dq_ = -g_; returns iterations; positive: no p.Hp <= 0 met.
   int solve(double rhs_norm2, bool& positive);
   HessianOperator<Real> hessian_;
+  std::unique_ptr<NewtonLdlt<Real>> ldlt_;  // newton_solver = "ldlt" only
   std::vector<Real> g_, dq_, r_, z_, p_, ap_, trial_;
   std::vector<double> gradient_norms_;
   std::vector<int> cg_iterations_;
