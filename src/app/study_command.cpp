@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
+#include <type_traits>
 
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
@@ -32,13 +34,15 @@ double median(std::vector<double> v) {
 }
 
 // Times and energies of `repeats` runs of one case from the current state.
-CaseResult measure_case(MPI_Comm comm, Simulation<double>& sim, const std::string& label,
-                        const SolverSpec& spec, int repeats, double energy_star) {
+template <class Real>
+CaseResult measure_case(MPI_Comm comm, Simulation<Real>& sim, const LocalProblem<double>* measuring,
+                        const std::string& label, const SolverSpec& spec, int repeats,
+                        double energy_star) {
   CaseResult result;
   result.label = label;
   result.spec = spec;
   std::vector<StepTrace> runs;
-  for (int r = 0; r < repeats; ++r) runs.push_back(trace_step(comm, sim, spec));
+  for (int r = 0; r < repeats; ++r) runs.push_back(trace_step(comm, sim, spec, measuring));
   result.records = runs.front().records;
   result.stats = runs.front().stats;
   for (std::size_t k = 0; k < result.records.size(); ++k) {
@@ -77,6 +81,96 @@ void write_pareto(const std::string& path, const std::vector<CaseResult>& result
           << 1e3 * best->records[best_k].seconds << '\n';
     else
       out << "none,,\n";
+  }
+}
+
+// Warmup, then per measured frame Newton's eps* and every case, appended to
+// study.csv and pareto.csv (rank 0).
+template <class Real>
+void run_cases(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
+               const std::vector<SolverSpec>& specs, const SolverSpec& truth,
+               const StudyOptions& options) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  Simulation<Real> sim(comm, scene, mesh);
+  for (int f = 0; f < options.warmup; ++f) sim.step();
+  // In float, Newton's eps* and every eps(q_k) come from a double twin of the
+  // same partition, given the float state at each measured frame.
+  std::unique_ptr<Simulation<double>> twin;
+  if constexpr (!std::is_same_v<Real, double>)
+    twin = std::make_unique<Simulation<double>>(comm, scene, mesh);
+  const LocalProblem<double>* measuring = twin ? &twin->problem() : nullptr;
+
+  const std::string csv = options.out_dir + "/study.csv";
+  const std::string pareto = options.out_dir + "/pareto.csv";
+  if (rank == 0) {
+    std::filesystem::create_directories(options.out_dir);
+    std::ofstream(csv)
+        << "ranks,frame,case,method,k,energy,rel_error,ms,collectives,reduce_ms,cpu_ms,kinetic\n";
+    std::ofstream(pareto) << "ranks,frame,level,case,k,ms\n";
+    if (!options.quiet)
+      std::fprintf(stderr, "study: %d tets, %d ranks, %zu cases, %d measured frame(s), %s\n",
+                   mesh.num_tets(), ranks, options.cases.size(), options.frames,
+                   options.precision.c_str());
+  }
+  for (int m = 0; m < options.frames; ++m) {
+    if (m > 0)
+      for (int f = 0; f < options.every; ++f) sim.step();
+    const int frame = options.warmup + m * options.every;
+    const double t0 = MPI_Wtime();
+    StepTrace star;
+    if (twin) {
+      twin->restore(sim.checkpoint(frame));
+      star = trace_step(comm, *twin, truth);
+    } else {
+      star = trace_step(comm, sim, truth);
+    }
+    const double energy_star = star.records.back().energy;
+    if (rank == 0 && !options.quiet)
+      std::fprintf(stderr, "study: frame %d: newton eps* = %.12e after %d iterations (%.1f s)\n",
+                   frame, energy_star, star.stats.iterations, MPI_Wtime() - t0);
+    std::vector<CaseResult> results;
+    for (std::size_t c = 0; c < options.cases.size(); ++c) {
+      // Newton with the truth's keys is the truth's own run (timed once; in
+      // double, as the truth is).
+      const bool is_truth = specs[c].method == "newton" &&
+                            specs[c].newton_tolerance == truth.newton_tolerance &&
+                            specs[c].cg_tolerance == truth.cg_tolerance;
+      if (is_truth) {
+        CaseResult r;
+        r.label = options.cases[c].label;
+        r.spec = specs[c];
+        r.records = star.records;
+        r.stats = star.stats;
+        r.errors = relative_errors(star, energy_star);
+        results.push_back(r);
+      } else {
+        results.push_back(measure_case(comm, sim, measuring, options.cases[c].label, specs[c],
+                                       options.repeats, energy_star));
+      }
+      const CaseResult& r = results.back();
+      if (rank == 0 && !options.quiet)
+        std::fprintf(stderr,
+                     "study: [%zu/%zu] %-14s e_%d = %.3e  %.1f ms (cpu %.1f ms)  %ld collectives"
+                     "  %d rollbacks  alpha %.3g\n",
+                     c + 1, options.cases.size(), r.label.c_str(), r.records.back().k,
+                     r.errors.back(), 1e3 * r.records.back().seconds,
+                     1e3 * r.records.back().cpu_seconds, r.records.back().collectives,
+                     r.stats.rollbacks, r.stats.alpha);
+    }
+    if (rank != 0) continue;
+    std::ofstream out(csv, std::ios::app);
+    out.precision(12);
+    for (const CaseResult& r : results)
+      for (std::size_t k = 0; k < r.records.size(); ++k) {
+        const IterationRecord& i = r.records[k];
+        out << ranks << ',' << frame << ',' << r.label << ',' << r.spec.method << ',' << i.k << ','
+            << i.energy << ',' << r.errors[k] << ',' << 1e3 * i.seconds << ',' << i.collectives
+            << ',' << 1e3 * i.reduce_seconds << ',' << 1e3 * i.cpu_seconds << ',' << i.kinetic
+            << '\n';
+      }
+    write_pareto(pareto, results, ranks, frame);
   }
 }
 
@@ -124,15 +218,18 @@ CLI::App* add_study_subcommand(CLI::App& app, StudyOptions& options) {
   study->add_option("--repeats", options.repeats, "Timing repeats per case (median)")
       ->check(CLI::PositiveNumber);
   study->add_option("--study-out", options.out_dir, "Directory for study.csv and pareto.csv");
+  study
+      ->add_option("--precision", options.precision,
+                   "Real type of the methods (the truth and the measured eps stay double)")
+      ->check(CLI::IsMember({"double", "float"}));
   study->add_flag("--quiet", options.quiet, "No progress output");
   return study;
 }
 
 int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::string>&)>& read,
               StudyOptions options) {
-  int rank = 0, ranks = 1;
+  int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &ranks);
   if (options.case_texts.empty())
     options.case_texts = {"chebyshev", "gd", "jacobi_gd", "ncg", "lbfgs", "nesterov", "newton"};
   for (const std::string& text : options.case_texts)
@@ -144,74 +241,15 @@ int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::st
   truth.method = "newton";
 
   const Mesh mesh = build_scene_mesh(scene.mesh);
-  Simulation<double> sim(comm, scene, mesh);
-  for (int f = 0; f < options.warmup; ++f) sim.step();
-
-  const std::string csv = options.out_dir + "/study.csv";
-  const std::string pareto = options.out_dir + "/pareto.csv";
-  if (rank == 0) {
-    std::filesystem::create_directories(options.out_dir);
-    std::ofstream(csv)
-        << "ranks,frame,case,method,k,energy,rel_error,ms,collectives,reduce_ms,cpu_ms,kinetic\n";
-    std::ofstream(pareto) << "ranks,frame,level,case,k,ms\n";
-    if (!options.quiet)
-      std::fprintf(stderr, "study: %d tets, %d ranks, %zu cases, %d measured frame(s)\n",
-                   mesh.num_tets(), ranks, options.cases.size(), options.frames);
-  }
-  for (int m = 0; m < options.frames; ++m) {
-    if (m > 0)
-      for (int f = 0; f < options.every; ++f) sim.step();
-    const int frame = options.warmup + m * options.every;
-    const double t0 = MPI_Wtime();
-    const StepTrace star = trace_step(comm, sim, truth);
-    const double energy_star = star.records.back().energy;
-    if (rank == 0 && !options.quiet)
-      std::fprintf(stderr, "study: frame %d: newton eps* = %.12e after %d iterations (%.1f s)\n",
-                   frame, energy_star, star.stats.iterations, MPI_Wtime() - t0);
-    std::vector<CaseResult> results;
-    for (std::size_t c = 0; c < options.cases.size(); ++c) {
-      // Newton with the truth's keys is the truth's own run (timed once).
-      const bool is_truth = specs[c].method == "newton" &&
-                            specs[c].newton_tolerance == truth.newton_tolerance &&
-                            specs[c].cg_tolerance == truth.cg_tolerance;
-      if (is_truth) {
-        CaseResult r;
-        r.label = options.cases[c].label;
-        r.spec = specs[c];
-        r.records = star.records;
-        r.stats = star.stats;
-        r.errors = relative_errors(star, energy_star);
-        results.push_back(r);
-      } else {
-        results.push_back(measure_case(comm, sim, options.cases[c].label, specs[c], options.repeats,
-                                       energy_star));
-      }
-      const CaseResult& r = results.back();
-      if (rank == 0 && !options.quiet)
-        std::fprintf(stderr,
-                     "study: [%zu/%zu] %-14s e_%d = %.3e  %.1f ms (cpu %.1f ms)  %ld collectives"
-                     "  %d rollbacks  alpha %.3g\n",
-                     c + 1, options.cases.size(), r.label.c_str(), r.records.back().k,
-                     r.errors.back(), 1e3 * r.records.back().seconds,
-                     1e3 * r.records.back().cpu_seconds, r.records.back().collectives,
-                     r.stats.rollbacks, r.stats.alpha);
-    }
-    if (rank != 0) continue;
-    std::ofstream out(csv, std::ios::app);
-    out.precision(12);
-    for (const CaseResult& r : results)
-      for (std::size_t k = 0; k < r.records.size(); ++k) {
-        const IterationRecord& i = r.records[k];
-        out << ranks << ',' << frame << ',' << r.label << ',' << r.spec.method << ',' << i.k << ','
-            << i.energy << ',' << r.errors[k] << ',' << 1e3 * i.seconds << ',' << i.collectives
-            << ',' << 1e3 * i.reduce_seconds << ',' << 1e3 * i.cpu_seconds << ',' << i.kinetic
-            << '\n';
-      }
-    write_pareto(pareto, results, ranks, frame);
-  }
+  if (options.precision == "float")
+    run_cases<float>(comm, scene, mesh, specs, truth, options);
+  else
+    run_cases<double>(comm, scene, mesh, specs, truth, options);
   if (rank == 0 && !options.quiet)
-    std::fprintf(stderr, "study: wrote %s and %s; plots: /usr/bin/python3 tools/plot_study.py %s\n",
-                 csv.c_str(), pareto.c_str(), options.out_dir.c_str());
+    std::fprintf(stderr,
+                 "study: wrote %s/study.csv and %s/pareto.csv; plots: /usr/bin/python3 "
+                 "tools/plot_study.py %s\n",
+                 options.out_dir.c_str(), options.out_dir.c_str(), options.out_dir.c_str());
   return 0;
 }
 

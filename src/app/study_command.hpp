@@ -34,6 +34,7 @@ struct StudyOptions {
   int every = 1;    // frames advanced between measured frames
   int repeats = 3;  // timing repeats per case (median per iteration)
   std::string out_dir = "study";
+  std::string precision = "double";  // the methods' Real; eps* and eps(q_k) in double
   bool quiet = false;
 };
 

@@ -29,14 +29,44 @@ Energy local_kinetic(const LocalProblem<Real>& problem, const Real* q, const Rea
     }
   return {sum, sum};
 }
+
+// eps(q) and the kinetic energy of this rank, evaluated by `measuring` when
+// given (Real arrays converted to double), else by the stepper's own problem.
+template <class Real>
+class LocalMeasure {
+ public:
+  LocalMeasure(const LocalProblem<Real>& own, const LocalProblem<double>* measuring)
+      : own_(own), measuring_(measuring) {}
+
+  void operator()(const Real* q, const Real* y, const Real* qt, Energy out[2]) {
+    if (!measuring_) {
+      out[0] = own_.local_energy(q, y, qt);
+      out[1] = local_kinetic(own_, q, qt);
+      return;
+    }
+    const std::size_t n = 3 * static_cast<std::size_t>(own_.num_vertices());
+    q_.assign(q, q + n);
+    y_.assign(y, y + n);
+    qt_.assign(qt, qt + n);
+    out[0] = measuring_->local_energy(q_.data(), y_.data(), qt_.data());
+    out[1] = local_kinetic(*measuring_, q_.data(), qt_.data());
+  }
+
+ private:
+  const LocalProblem<Real>& own_;
+  const LocalProblem<double>* measuring_;
+  std::vector<double> q_, y_, qt_;
+};
 }  // namespace
 
 template <class Real>
-StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spec) {
+StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spec,
+                     const LocalProblem<double>* measuring) {
   StepTrace trace;
   trace.spec = spec;
   EnergyReduction measure(comm);
   LocalProblem<Real>& problem = sim.problem();
+  LocalMeasure<Real> local_measure(problem, measuring);
   std::unique_ptr<Stepper<Real>> stepper = make_stepper(problem, spec);
   BodyState<Real> state = sim.state();
 
@@ -58,7 +88,8 @@ StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spe
     r.seconds = now - start - paused;
     r.collectives = collectives() - collectives_start;
     r.reduce_seconds = sim.reduction_counters().seconds - reduce_start;
-    const Energy local[2] = {problem.local_energy(q, y, qt), local_kinetic(problem, q, qt)};
+    Energy local[2];
+    local_measure(q, y, qt, local);
     const EnergySums sums = measure.sum(local, 2);
     r.energy = finite_or_nan(sums);
     r.kinetic = sums.energy[1].value;
@@ -80,8 +111,8 @@ StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spe
   std::vector<Real> y(before.q.size());
   const Real h = problem.dt();
   for (std::size_t k = 0; k < y.size(); ++k) y[k] = before.q[k] + h * before.v[k];
-  const Energy local[2] = {problem.local_energy(state.q.data(), y.data(), before.q.data()),
-                           local_kinetic(problem, state.q.data(), before.q.data())};
+  Energy local[2];
+  local_measure(state.q.data(), y.data(), before.q.data(), local);
   const EnergySums sums = measure.sum(local, 2);
   last.energy = finite_or_nan(sums);
   last.kinetic = sums.energy[1].value;
@@ -98,7 +129,9 @@ std::vector<double> relative_errors(const StepTrace& trace, double energy_star) 
   return e;
 }
 
-template StepTrace trace_step(MPI_Comm, Simulation<double>&, const SolverSpec&);
-template StepTrace trace_step(MPI_Comm, Simulation<float>&, const SolverSpec&);
+template StepTrace trace_step(MPI_Comm, Simulation<double>&, const SolverSpec&,
+                              const LocalProblem<double>*);
+template StepTrace trace_step(MPI_Comm, Simulation<float>&, const SolverSpec&,
+                              const LocalProblem<double>*);
 
 }  // namespace descent

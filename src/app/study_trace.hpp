@@ -33,8 +33,13 @@ struct StepTrace {
   std::vector<IterationRecord> records;
 };
 
+// `measuring`: the problem whose eps the records evaluate (the simulation's
+// own when null). A float study measures with a double problem of the same
+// partition, so e_k shows the float iterates' accuracy, not float's
+// evaluation of eps.
 template <class Real>
-StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spec);
+StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spec,
+                     const LocalProblem<double>* measuring = nullptr);
 
 // e_k = (eps(q_k) - eps*) / (eps(q_0) - eps*) per record.
 std::vector<double> relative_errors(const StepTrace& trace, double energy_star);
