@@ -2,6 +2,8 @@
 // Test helpers: the global picture of a distributed run, on rank 0.
 #include <mpi.h>
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "app/simulation.hpp"
@@ -24,8 +26,8 @@ std::vector<double> gather_positions(MPI_Comm comm, const Simulation<Real>& sim,
   MPI_Gather(&owned, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
   for (int r = 0; r < size; ++r) offsets[r + 1] = offsets[r] + counts[r];
   std::vector<int> all_ids(rank == 0 ? offsets[size] : 0);
-  MPI_Gatherv(ids.data(), owned, MPI_INT, all_ids.data(), counts.data(), offsets.data(), MPI_INT,
-              0, comm);
+  MPI_Gatherv(ids.data(), owned, MPI_INT, all_ids.data(), counts.data(), offsets.data(), MPI_INT, 0,
+              comm);
   std::vector<int> counts3(size), offsets3(size);
   for (int r = 0; r < size; ++r) {
     counts3[r] = 3 * counts[r];
@@ -41,6 +43,33 @@ std::vector<double> gather_positions(MPI_Comm comm, const Simulation<Real>& sim,
       for (int i = 0; i < 3; ++i) by_id[3 * all_ids[k] + i] = all_xyz[3 * k + i];
   }
   return by_id;
+}
+
+// `frames` steps of `scene` on `comm` and, on rank 0, the same on one rank.
+// On rank 0: the largest |q_P - q_1| and the largest |q_1 - rest| over all
+// coordinates; zeros on the other ranks.
+struct OneRankComparison {
+  double worst = 0;
+  double moved = 0;
+};
+
+inline OneRankComparison compare_with_one_rank(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
+                                               int frames) {
+  Simulation<double> distributed(comm, scene, mesh);
+  for (int frame = 0; frame < frames; ++frame) distributed.step();
+  const std::vector<double> got = gather_positions(comm, distributed, mesh.num_vertices());
+  OneRankComparison c;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank != 0) return c;
+  Simulation<double> serial(MPI_COMM_SELF, scene, mesh);
+  for (int frame = 0; frame < frames; ++frame) serial.step();
+  const std::vector<double> want = gather_positions(MPI_COMM_SELF, serial, mesh.num_vertices());
+  for (std::size_t k = 0; k < want.size(); ++k) {
+    c.worst = std::max(c.worst, std::abs(got[k] - want[k]));
+    c.moved = std::max(c.moved, std::abs(want[k] - mesh.positions[k]));
+  }
+  return c;
 }
 
 }  // namespace descent::testing

@@ -70,8 +70,8 @@ TEST(Physics, HangingHelixComesToRestAndEnergyNeverRisesWithinAStep) {
     last = kinetic_energy(sim);
     peak = std::max(peak, last);
     if (frame > 120) late_peak = std::max(late_peak, last);
-      printf("frame %d KE %g alpha %g rollbacks %d it %d E %.10g\n", frame, last, step.alpha,
-             step.rollbacks, step.iterations, step.energy);
+    printf("frame %d KE %g alpha %g rollbacks %d it %d E %.10g\n", frame, last, step.alpha,
+           step.rollbacks, step.iterations, step.energy);
   }
   EXPECT_GT(peak, 0.0);
   EXPECT_LT(late_peak, 1e-2 * peak)

@@ -66,14 +66,19 @@ PolarQuality polar_quality(std::uint64_t seed, double det_min, double det_max, i
   return worst;
 }
 
+// Prints the quality and checks that Q is a rotation.
+void expect_rotation(const char* range, const PolarQuality& w) {
+  std::printf(
+      "polar, det F in %s: |Q^T Q - I| %.1e, |det Q - 1| %.1e, asymmetry %.1e after <= %d "
+      "sweeps\n",
+      range, w.orthogonality, w.det_error, w.asymmetry, w.most_sweeps);
+  EXPECT_LE(w.orthogonality, 1e-13) << range;
+  EXPECT_LE(w.det_error, 1e-13) << range;
+}
+
 TEST(CorotatedLinear, PolarSweepsConvergeToARotationThatSymmetrisesF) {
   const PolarQuality w = polar_quality(3, 0.2, 3.0, 100);
-  std::printf(
-      "polar, det F in [0.2, 3]: |Q^T Q - I| %.1e, |det Q - 1| %.1e, asymmetry %.1e, "
-      "sweeps <= %d\n",
-      w.orthogonality, w.det_error, w.asymmetry, w.most_sweeps);
-  EXPECT_LE(w.orthogonality, 1e-13);
-  EXPECT_LE(w.det_error, 1e-13);
+  expect_rotation("[0.2, 3]", w);
   EXPECT_LE(w.asymmetry, 1e-12);
   EXPECT_LT(w.most_sweeps, 100);  // converged before the limit
 }
@@ -83,12 +88,7 @@ TEST(CorotatedLinear, PolarSweepsConvergeToARotationThatSymmetrisesF) {
 // Q must still be a rotation.
 TEST(CorotatedLinear, PolarSweepsStayARotationForInvertedElements) {
   const PolarQuality w = polar_quality(4, -0.5, 0.0, 100);
-  std::printf(
-      "polar, det F in [-0.5, 0]: |Q^T Q - I| %.1e, |det Q - 1| %.1e, asymmetry %.1e "
-      "after <= %d sweeps\n",
-      w.orthogonality, w.det_error, w.asymmetry, w.most_sweeps);
-  EXPECT_LE(w.orthogonality, 1e-13);
-  EXPECT_LE(w.det_error, 1e-13);
+  expect_rotation("[-0.5, 0]", w);
   EXPECT_LE(w.asymmetry, 1e-3);
 }
 
