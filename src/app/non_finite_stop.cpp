@@ -8,6 +8,7 @@ namespace descent {
 
 const char* step_status(const StepStats& step) {
   if (!step.finite) return "failed_non_finite";
+  if (step.retried_from_start) return "retried_from_start";
   if (step.stalled) return "stalled";
   if (step.nonfinite_rollbacks > 0) return "rolled_back_non_finite";
   return "ok";

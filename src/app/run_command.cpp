@@ -163,7 +163,7 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   const double h = scene.time.dt;
   double total_ms = 0;
   long total_iterations = 0;
-  int stalled_steps = 0;
+  int stalled_steps = 0, retried_steps = 0;
   constexpr int kStallWarnings = 5;
   int nonfinite_steps = 0, nonfinite_warnings = 0;  // the latter on this rank
   const int checkpoint_every = scene.output.checkpoint_every;
@@ -206,6 +206,12 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
     if (warn && ++nonfinite_warnings <= kStallWarnings)
       warn_rolled_back(frame, rank, step.rejected_at);
     nonfinite_steps += step.nonfinite_rollbacks > 0 ? 1 : 0;
+    if (rank == 0 && step.finite && step.retried_from_start && ++retried_steps <= kStallWarnings)
+      std::fprintf(stderr,
+                   "warning: frame %d: the predicted initial guess (solver.init = \"%s\") led to "
+                   "no finite state; the step was retaken from its start%s\n",
+                   frame, scene.solver.init.c_str(),
+                   retried_steps == kStallWarnings ? " (further such warnings suppressed)" : "");
     if (!step.finite) {
       // The body still holds the last good state (the step left it alone):
       // make sure it is on disk, then stop every rank with one message.

@@ -108,6 +108,23 @@ void Simulation<Real>::set_positions(const std::vector<double>& global_xyz) {
 }
 
 template <class Real>
+StepStats Simulation<Real>::step() {
+  const double alpha = solver_->alpha();
+  StepStats first = solver_->step(state_);
+  if (first.finite) return first;
+  // The failed step left the body at its start, which is finite; only the
+  // guess was not. Every rank knows (the reduction), so all retry alike.
+  solver_->set_alpha(alpha);
+  solver_->guess_next_step_from_start();
+  StepStats retry = solver_->step(state_);
+  retry.retried_from_start = true;
+  retry.rollbacks += first.rollbacks;
+  retry.nonfinite_rollbacks += first.nonfinite_rollbacks;
+  if (!retry.rejected_at.found()) retry.rejected_at = first.rejected_at;
+  return retry;
+}
+
+template <class Real>
 Checkpoint Simulation<Real>::checkpoint(int frame) const {
   Checkpoint c;
   c.num_ranks = local_.num_ranks;

@@ -29,7 +29,11 @@ class Simulation {
   Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
              const BackendChoice& backend = {});
 
-  StepStats step() { return solver_->step(state_); }
+  // One time step. A step whose predicted initial guess leads to no finite
+  // state (e.g. a tet inverted by the extrapolation, where no shorter step
+  // gets back) is taken again once from the step start q_t, with the step
+  // length it began with; StepStats::retried_from_start says so.
+  StepStats step();
 
   // Starts from positions other than the rest shape (xyz by global vertex id,
   // at rest velocity): for recovery tests and restarts.

@@ -27,7 +27,7 @@ template <class Real>
 StepStats DeviceChebyshev<Real>::step(BodyState<Real>& state) {
   const double t_next = state.time + static_cast<double>(problem_.dt());
   problem_.begin_step(t_next);
-  predict_positions(spec_, problem_, state, qt_, y_, q_);
+  predict_positions(spec_, problem_, state, qt_, y_, q_, this->take_guess_from_start());
   problem_.hold_fixed(t_next, q_);
   EnergyCheck check(problem_.energy_changes_within_step());
   const bool reevaluate = check.reevaluate();

@@ -84,8 +84,10 @@ struct FrameStats {
   // Checks rolled back because the trial state's energy was not finite:
   int nonfinite_rollbacks = 0;
   // How the step ended, worst first: "failed_non_finite" (no finite state
-  // reached: the run stops after this row), "stalled", "rolled_back_non_finite"
-  // (a non-finite trial was rejected, the step went on), "ok".
+  // reached: the run stops after this row), "retried_from_start" (the
+  // predicted guess reached no finite state; the step was retaken from q_t),
+  // "stalled", "rolled_back_non_finite" (a non-finite trial was rejected, the
+  // step went on), "ok".
   std::string status = "ok";
 };
 

@@ -31,7 +31,8 @@ template <class Real>
 StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   const double t_next = state.time + static_cast<double>(problem_.dt());
   problem_.begin_step(t_next);
-  predict_positions(spec_, problem_, state, qt_.data(), y_.data(), q_.data());
+  predict_positions(spec_, problem_, state, qt_.data(), y_.data(), q_.data(),
+                    this->take_guess_from_start());
   problem_.hold_fixed(t_next, q_.data());
   StepStats stats;
   alpha_ = std::min(spec_.alpha_max, alpha_ / spec_.gamma);

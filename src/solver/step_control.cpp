@@ -8,12 +8,13 @@ namespace descent {
 
 template <class Real>
 void predict_positions(const SolverSpec& spec, LocalProblem<Real>& problem,
-                       const BodyState<Real>& state, Real* qt, Real* y, Real* q) {
+                       const BodyState<Real>& state, Real* qt, Real* y, Real* q, bool from_start) {
   const Real h = problem.dt();
+  const std::string& init = from_start ? std::string("position") : spec.init;
   // Weights of h v and of h (v - v_prev) in the guess q_t + ... .
-  const Real w_velocity = spec.init == "position" ? Real(0) : Real(1);
+  const Real w_velocity = init == "position" ? Real(0) : Real(1);
   const Real w_acceleration =
-      spec.init == "constant_acceleration" ? static_cast<Real>(spec.eta) : Real(0);
+      init == "constant_acceleration" ? static_cast<Real>(spec.eta) : Real(0);
   const std::size_t n = state.q.size();
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < n; ++k) {
@@ -23,7 +24,7 @@ void predict_positions(const SolverSpec& spec, LocalProblem<Real>& problem,
     q[k] = q_start + h * (w_velocity * v + w_acceleration * (v - state.v_prev[k]));
   }
   // Eq. 10 (solver/methods/optimized_init.hpp): q_t + d h v, d from y and q_t.
-  if (spec.init == "optimized") {
+  if (init == "optimized") {
     std::vector<Real> hv(n);
     for (std::size_t k = 0; k < n; ++k) hv[k] = h * state.v[k];
     const Real d = static_cast<Real>(optimized_step_weight(problem, qt, y, hv.data()));
@@ -32,8 +33,8 @@ void predict_positions(const SolverSpec& spec, LocalProblem<Real>& problem,
 }
 
 template void predict_positions(const SolverSpec&, LocalProblem<double>&, const BodyState<double>&,
-                                double*, double*, double*);
+                                double*, double*, double*, bool);
 template void predict_positions(const SolverSpec&, LocalProblem<float>&, const BodyState<float>&,
-                                float*, float*, float*);
+                                float*, float*, float*, bool);
 
 }  // namespace descent

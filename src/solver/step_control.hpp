@@ -35,10 +35,12 @@ Real chebyshev_omega(int since_restart, int delay, Real rho2, Real omega) {
 // step-start positions qt, the inertial target y = q_t + h v and the initial
 // guess q (3 reals per local vertex, xyz-interleaved). The caller then puts
 // held axes where their motion says. init = "optimized" (Eq. 10) costs one
-// gradient, one Hessian product and one allreduce.
+// gradient, one Hessian product and one allreduce. from_start: q = q_t
+// whatever spec.init says (Stepper::guess_next_step_from_start).
 template <class Real>
 void predict_positions(const SolverSpec& spec, LocalProblem<Real>& problem,
-                       const BodyState<Real>& state, Real* qt, Real* y, Real* q);
+                       const BodyState<Real>& state, Real* qt, Real* y, Real* q,
+                       bool from_start = false);
 
 // Ends a step at its result q (3 reals per local vertex): implicit Euler's
 // velocity v = (q - q_t) / h, the previous velocity kept for the next

@@ -5,6 +5,7 @@
 // only in how they descend on eps; the problem, halo and reduction are shared.
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "io/scene.hpp"
@@ -72,6 +73,10 @@ struct StepStats {
   // first rolled-back trial of the step, and with finite == false the state
   // the step could not leave.
   NonFiniteSite rejected_at, failed_at;
+  // The step was taken twice: its predicted initial guess led to no finite
+  // state, and the retry from the step start q_t (always finite: the last
+  // accepted state) succeeded or failed in its place (Simulation::step).
+  bool retried_from_start = false;
 };
 
 template <class Real>
@@ -95,13 +100,21 @@ class Stepper {
   using Observer = std::function<void(int k, const Real* q, const Real* y, const Real* qt)>;
   void set_observer(Observer observer) { observer_ = std::move(observer); }
 
+  // The next step starts from q_t (solver.init = "position") whatever
+  // solver.init says: once, for the retry of a failed step.
+  void guess_next_step_from_start() { guess_from_start_ = true; }
+
  protected:
+  // Whether this step's prediction must start from q_t; clears the request.
+  bool take_guess_from_start() { return std::exchange(guess_from_start_, false); }
+
   void observe(int k, const Real* q, const Real* y, const Real* qt) const {
     if (observer_) observer_(k, q, y, qt);
   }
 
  private:
   Observer observer_;
+  bool guess_from_start_ = false;
 };
 
 // The method named by spec.method over `problem` (which must outlive it).

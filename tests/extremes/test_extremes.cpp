@@ -51,9 +51,15 @@ constexpr Subset kSubset[] = {{"dt_1", Expect::completes},         {"E_1e11", Ex
 // Fung's exponential overflows when tets are crushed (J -> 0 drives
 // J^(-2/3) I1 and so exp(c3 (I1bar - 3)) to inf; conversion does not help,
 // since it still evaluates the model while l < 1): the collapsed start and
-// the 100 m/s impact stop at a step with no finite state.
+// the 100 m/s impact stop at a step with no finite state. The impact's stop
+// comes from a crushed predicted guess: since a failed step is retaken from
+// its start (Simulation::step), it gets through on 1 rank in double and still
+// stops on 3 ranks and in float, so there either outcome is accepted.
 bool known_to_stop(const std::string& name, const std::string& model) {
-  return (name == "collapse" || name == "throw_100") && model == "fung";
+  return name == "collapse" && model == "fung";
+}
+bool may_stop(const std::string& name, const std::string& model) {
+  return name == "throw_100" && model == "fung";
 }
 
 template <class Real>
@@ -77,6 +83,7 @@ void check(const Case& c, const Subset& subset) {
     EXPECT_FALSE(r.finite) << label << " now completes: update the known exceptions";
     return;
   }
+  if (may_stop(c.name, c.scene.material.model) && !r.finite) return;
   switch (subset.expect) {
     case Expect::completes:
       EXPECT_TRUE(r.finite) << label << ": stopped at frame " << r.failed_frame << ", "

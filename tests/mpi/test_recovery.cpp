@@ -12,6 +12,7 @@
 #include "gather_positions.hpp"
 #include "kernels/svd3.hpp"
 #include "kernels/tet.hpp"
+#include "small_scenes.hpp"
 
 namespace descent {
 namespace {
@@ -123,6 +124,66 @@ TEST(Recovery, FungBoxFromRandomPositionsRecoversWithAFreshDiagonal) {
   if (worst >= 0 || std::isnan(worst)) {
     EXPECT_LE(worst, 1e-2);
   }
+}
+
+// A predicted initial guess that inverts every tet of a neo-Hookean body
+// (infinite energy: no shorter step gets out of the barrier) fails the step;
+// Simulation::step retakes it from the step start, which is finite.
+TEST(Recovery, AnInvertingPredictionIsRetriedFromTheStepStart) {
+  Scene scene = testing::small_helix_scene();
+  scene.solver.init = "velocity";
+  const Mesh mesh = build_scene_mesh(scene.mesh);
+  Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+  sim.step();
+  // Velocities that carry every vertex through the centroid of the local
+  // vertices' bounding box in one step: q_t + h v = c - 1.5 (q_t - c).
+  Checkpoint c = sim.checkpoint(1);
+  double centre[3];
+  for (int a = 0; a < 3; ++a) {
+    double lo = 1e300, hi = -1e300;
+    for (std::size_t k = a; k < c.q.size(); k += 3) {
+      lo = std::min(lo, c.q[k]);
+      hi = std::max(hi, c.q[k]);
+    }
+    MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    centre[a] = 0.5 * (lo + hi);
+  }
+  for (std::size_t k = 0; k < c.q.size(); ++k)
+    c.v[k] = -2.5 * (c.q[k] - centre[k % 3]) / scene.time.dt;
+
+  // The stepper alone: the step fails and leaves the body where it was.
+  sim.restore(c);
+  BodyState<double> state = sim.state();
+  const StepStats alone = sim.stepper().step(state);
+  EXPECT_FALSE(alone.finite);
+  EXPECT_EQ(state.q, sim.state().q);
+
+  // Through Simulation::step: retaken from q_t, finite, no tet inverted.
+  sim.restore(c);
+  const StepStats step = sim.step();
+  EXPECT_TRUE(step.finite);
+  EXPECT_TRUE(step.retried_from_start);
+  EXPECT_GT(step.nonfinite_rollbacks, 0);
+  const std::vector<double> x = testing::gather_positions(MPI_COMM_WORLD, sim, mesh.num_vertices());
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank != 0) return;
+  for (double coordinate : x) ASSERT_TRUE(std::isfinite(coordinate));
+  int inverted = 0;
+  for (index_t t = 0; t < mesh.num_tets(); ++t) {
+    Vec3<double> r[4], d[4];
+    for (int a = 0; a < 4; ++a) {
+      const index_t v = mesh.tets[4 * t + a];
+      r[a] = {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
+      d[a] = {x[3 * v], x[3 * v + 1], x[3 * v + 2]};
+    }
+    const TetRest<double> tr = tet_rest(r[0], r[1], r[2], r[3]);
+    inverted += det(deformation_gradient(d[0], d[1], d[2], d[3], tr.dm_inv)) <= 0;
+  }
+  std::printf("retried step: %d rollbacks (%d non-finite), %d inverted tets after it\n",
+              step.rollbacks, step.nonfinite_rollbacks, inverted);
+  EXPECT_EQ(inverted, 0);
 }
 
 }  // namespace

@@ -23,7 +23,8 @@ template <class Real>
 StepStats MethodBase<Real>::step(BodyState<Real>& state) {
   const double t_next = state.time + static_cast<double>(problem_.dt());
   problem_.begin_step(t_next);
-  predict_positions(spec_, problem_, state, qt_.data(), y_.data(), q_.data());
+  predict_positions(spec_, problem_, state, qt_.data(), y_.data(), q_.data(),
+                    this->take_guess_from_start());
   problem_.hold_fixed(t_next, q_.data());
 
   StepStats stats;
