@@ -84,9 +84,11 @@ def main():
                 dist.append("-")
                 continue
             rows = stats(run)
-            failed = any(r["status"] == "failed_non_finite" for r in rows)
             ms.append(f"{statistics.median(float(r['wall_ms']) for r in rows):.2f}")
-            dist.append("non-finite" if failed else f"{distance(run, reference, diagonal):.1e}")
+            if len(rows) < frames:  # the run stopped: no finite state at the next frame
+                dist.append(f"non-finite at frame {len(rows) + 1}")
+            else:
+                dist.append(f"{distance(run, reference, diagonal):.1e}")
             if budget == "conv":
                 iterations = f"{statistics.mean(int(r['iterations']) for r in rows):.1f}"
         print(f"| {label} | " + " | ".join(ms) + f" | {iterations} | " + " | ".join(dist) + " |")

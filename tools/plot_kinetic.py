@@ -55,6 +55,7 @@ def main():
         ax.set_title(f"preconditioner: {p}")
         ax.set_xlabel("CG iteration")
         ax.set_xscale("symlog", linthresh=10)
+        ax.set_xlim(left=0)
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("kinetic energy (J)")
     axes[0].legend(fontsize=8)

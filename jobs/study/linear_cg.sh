@@ -14,6 +14,9 @@ PRESET=${PRESET:-41k}
 source "$(dirname "$0")/common.sh"
 corotated=(--set 'material.model="corotated"' --set 'solver.method="linear_cg"')
 
+# Whether run directory $1 holds all $2 frames (a rerun skips it).
+complete() { [ -f "$1/stats.csv" ] && [ "$(($(wc -l < "$1/stats.csv") - 1))" -ge "$2" ]; }
+
 # Table 1: runs of FRAMES frames, one per guess and budget, into $1/NAME.
 table() {
   local out=$1 frames=$2
@@ -25,18 +28,22 @@ table() {
     for budget in 1 2 5 10 conv; do
       local its=$budget
       [ "$budget" = conv ] && its=100000
+      if complete "$out/${guess}_$budget" "$frames"; then continue; fi
       echo "linear_cg.sh: $out: guess $guess, budget $budget" >&2
+      # An unstable guess/budget may blow up: the run then stops naming the
+      # tet, and the table says where.
       $MPIEXEC -n 1 "$DESCENT" run "${scene[@]}" "${corotated[@]}" --overwrite \
         --set "time.frames=$frames" --set "solver.iterations=$its" \
         --set "solver.linear_cg_guess=\"$guess\"" --set "output.dir=\"$out/${guess}_$budget\"" \
-        --set "output.checkpoint_every=0" > "$out/${guess}_$budget.log"
+        --set "output.checkpoint_every=0" > "$out/${guess}_$budget.log" 2>&1 ||
+        echo "linear_cg.sh: $out/${guess}_$budget stopped (see its .log)" >&2
     done
   done
 }
 
 table "$RESULTS/linear_cg_${PRESET}/h30" 30 "${helix[@]}"
 echo "linear_cg.sh: chebyshev beside (h = 1/30)" >&2
-$MPIEXEC -n 1 "$DESCENT" run "${helix[@]}" --set 'material.model="corotated"' --overwrite \
+complete "$RESULTS/linear_cg_${PRESET}/h30/chebyshev" 30 || $MPIEXEC -n 1 "$DESCENT" run "${helix[@]}" --set 'material.model="corotated"' --overwrite \
   --set time.frames=30 --set "output.dir=\"$RESULTS/linear_cg_${PRESET}/h30/chebyshev\"" \
   --set "output.checkpoint_every=0" > "$RESULTS/linear_cg_${PRESET}/h30/chebyshev.log"
 table "$RESULTS/linear_cg_${PRESET}/h150" 150 "${helix[@]}" --set "time.dt=$(echo 'print(1/150)' | $PYTHON)"
