@@ -23,7 +23,7 @@ table() {
   shift 2
   local scene=("$@")
   mkdir -p "$out"
-  machine "(one run per guess and budget) $DESCENT run ${scene[*]} ${corotated[*]}" > "$out/machine.txt"
+  machine "(one run per guess and budget) $DESCENT run ${scene[*]} ${corotated[*]}" >> "$out/machine.txt"
   for guess in zero velocity euler; do
     for budget in 1 2 5 10 conv; do
       local its=$budget
