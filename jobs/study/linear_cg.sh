@@ -10,7 +10,11 @@
 #  Fig. 3/4: kinetic energy over the CG iterations of one solve for every
 #    guess and preconditioner (descent study, its `kinetic` column).
 #   jobs/study/linear_cg.sh        (PRESET=41k by default here)
+#   PRESET=82k PARTS=h30 jobs/study/linear_cg.sh   (only the h = 1/30 table)
+# PARTS: any of h30 h150 kinetic armadillo (default all).
 PRESET=${PRESET:-41k}
+PARTS=${PARTS:-h30 h150 kinetic armadillo}
+part() { [[ " $PARTS " == *" $1 "* ]]; }
 source "$(dirname "$0")/common.sh"
 corotated=(--set 'material.model="corotated"' --set 'solver.method="linear_cg"')
 
@@ -41,31 +45,39 @@ table() {
   done
 }
 
-table "$RESULTS/linear_cg_${PRESET}/h30" 30 "${helix[@]}"
-echo "linear_cg.sh: chebyshev beside (h = 1/30)" >&2
-complete "$RESULTS/linear_cg_${PRESET}/h30/chebyshev" 30 || $MPIEXEC -n 1 "$DESCENT" run "${helix[@]}" --set 'material.model="corotated"' --overwrite \
-  --set time.frames=30 --set "output.dir=\"$RESULTS/linear_cg_${PRESET}/h30/chebyshev\"" \
-  --set "output.checkpoint_every=0" > "$RESULTS/linear_cg_${PRESET}/h30/chebyshev.log"
-table "$RESULTS/linear_cg_${PRESET}/h150" 150 "${helix[@]}" --set "time.dt=$(echo 'print(1/150)' | $PYTHON)"
-for h in h30 h150; do
-  $PYTHON tools/linear_cg_table.py "$RESULTS/linear_cg_${PRESET}/$h" \
-    > "$RESULTS/linear_cg_${PRESET}/$h/table1.md"
-done
+if part h30; then
+  table "$RESULTS/linear_cg_${PRESET}/h30" 30 "${helix[@]}"
+  echo "linear_cg.sh: chebyshev beside (h = 1/30)" >&2
+  complete "$RESULTS/linear_cg_${PRESET}/h30/chebyshev" 30 ||
+    $MPIEXEC -n 1 "$DESCENT" run "${helix[@]}" --set 'material.model="corotated"' --overwrite \
+      --set time.frames=30 --set "output.dir=\"$RESULTS/linear_cg_${PRESET}/h30/chebyshev\"" \
+      --set "output.checkpoint_every=0" > "$RESULTS/linear_cg_${PRESET}/h30/chebyshev.log"
+  $PYTHON tools/linear_cg_table.py "$RESULTS/linear_cg_${PRESET}/h30" \
+    > "$RESULTS/linear_cg_${PRESET}/h30/table1.md"
+fi
+if part h150; then
+  table "$RESULTS/linear_cg_${PRESET}/h150" 150 "${helix[@]}" --set "time.dt=$(echo 'print(1/150)' | $PYTHON)"
+  $PYTHON tools/linear_cg_table.py "$RESULTS/linear_cg_${PRESET}/h150" \
+    > "$RESULTS/linear_cg_${PRESET}/h150/table1.md"
+fi
 
 # Fig. 3/4: one solve after 10 frames, every guess x preconditioner.
-out="$RESULTS/linear_cg_${PRESET}/kinetic"
-mkdir -p "$out"
-cases=(--case newton)
-for p in identity mass jacobi; do
-  for guess in zero velocity euler; do
-    cases+=(--case "${p}_${guess}:method=linear_cg linear_cg_preconditioner=\"$p\" linear_cg_guess=\"$guess\" iterations=400")
+if part kinetic; then
+  out="$RESULTS/linear_cg_${PRESET}/kinetic"
+  mkdir -p "$out"
+  cases=(--case newton)
+  for p in identity mass jacobi; do
+    for guess in zero velocity euler; do
+      cases+=(--case "${p}_${guess}:method=linear_cg linear_cg_preconditioner=\"$p\" linear_cg_guess=\"$guess\" iterations=400")
+    done
   done
-done
-cmd=($MPIEXEC -n 1 "$DESCENT" study "${helix[@]}" "${corotated[@]}" --warmup 10 --repeats 3
-     "${cases[@]}" --study-out "$out")
-machine "${cmd[*]}" > "$out/machine.txt"
-"${cmd[@]}" 2> "$out/progress.log"
-$PYTHON tools/plot_kinetic.py "$out" --title "linear_cg, one solve, helix $PRESET (corotated, h = 1/30 s)"
+  cmd=($MPIEXEC -n 1 "$DESCENT" study "${helix[@]}" "${corotated[@]}" --warmup 10 --repeats 3
+       "${cases[@]}" --study-out "$out")
+  machine "${cmd[*]}" > "$out/machine.txt"
+  "${cmd[@]}" 2> "$out/progress.log"
+  $PYTHON tools/plot_kinetic.py "$out" --title "linear_cg, one solve, helix $PRESET (corotated, h = 1/30 s)"
+fi
+part armadillo || exit 0
 
 mesh=../shared/meshes/armadillo_10k.node
 if [ ! -f "$mesh" ]; then
