@@ -20,15 +20,12 @@
 #include "pmpi_counters.hpp"
 #include "small_scenes.hpp"
 #include "solver/methods/linear_cg.hpp"
+#include "world_rank.hpp"
 
 namespace descent {
 namespace {
 
-int world_rank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
+using testing::world_rank;
 
 Scene corotated_helix() {
   Scene scene = testing::small_helix_scene();

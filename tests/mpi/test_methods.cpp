@@ -16,6 +16,7 @@
 #include "mesh_extent.hpp"
 #include "small_scenes.hpp"
 #include "solver/methods/newton.hpp"
+#include "world_rank.hpp"
 
 namespace descent {
 namespace {
@@ -23,11 +24,7 @@ namespace {
 const char* const kMethods[] = {"chebyshev", "gd",    "jacobi_gd", "nesterov",
                                 "ncg",       "lbfgs", "newton"};
 
-int world_rank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
+using testing::world_rank;
 
 // Two Chebyshev frames: the small helix moving, stretched by gravity.
 void start_moving(Simulation<double>& sim) {

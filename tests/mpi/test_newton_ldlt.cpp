@@ -18,15 +18,12 @@
 #include "mesh_extent.hpp"
 #include "small_scenes.hpp"
 #include "solver/methods/newton.hpp"
+#include "world_rank.hpp"
 
 namespace descent {
 namespace {
 
-int world_rank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
+using testing::world_rank;
 
 // Stretched by 20% along the helix axis from its held top (as in
 // test_methods): Newton needs several iterations, with the exact Hessian

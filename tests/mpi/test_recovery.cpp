@@ -32,18 +32,23 @@ Scene recovery_scene(const std::string& model) {
   return scene;
 }
 
+// F of global tet t of `rest` at positions x (global, xyz by vertex id).
+Mat3<double> deformation_of(const Mesh& rest, const std::vector<double>& x, index_t t) {
+  Vec3<double> r[4], d[4];
+  for (int a = 0; a < 4; ++a) {
+    const index_t v = rest.tets[4 * t + a];
+    r[a] = {rest.positions[3 * v], rest.positions[3 * v + 1], rest.positions[3 * v + 2]};
+    d[a] = {x[3 * v], x[3 * v + 1], x[3 * v + 2]};
+  }
+  const TetRest<double> tr = tet_rest(r[0], r[1], r[2], r[3]);
+  return deformation_gradient(d[0], d[1], d[2], d[3], tr.dm_inv);
+}
+
 // Largest |sigma - 1| over the tets of the mesh at positions x (global).
 double worst_stretch(const Mesh& rest, const std::vector<double>& x) {
   double worst = 0;
   for (index_t t = 0; t < rest.num_tets(); ++t) {
-    Vec3<double> r[4], d[4];
-    for (int a = 0; a < 4; ++a) {
-      const index_t v = rest.tets[4 * t + a];
-      r[a] = {rest.positions[3 * v], rest.positions[3 * v + 1], rest.positions[3 * v + 2]};
-      d[a] = {x[3 * v], x[3 * v + 1], x[3 * v + 2]};
-    }
-    const TetRest<double> tr = tet_rest(r[0], r[1], r[2], r[3]);
-    const Svd3<double> s = svd3(deformation_gradient(d[0], d[1], d[2], d[3], tr.dm_inv));
+    const Svd3<double> s = svd3(deformation_of(rest, x, t));
     for (double sigma : s.sigma) worst = std::max(worst, std::abs(sigma - 1.0));
   }
   return worst;
@@ -171,16 +176,7 @@ TEST(Recovery, AnInvertingPredictionIsRetriedFromTheStepStart) {
   if (rank != 0) return;
   for (double coordinate : x) ASSERT_TRUE(std::isfinite(coordinate));
   int inverted = 0;
-  for (index_t t = 0; t < mesh.num_tets(); ++t) {
-    Vec3<double> r[4], d[4];
-    for (int a = 0; a < 4; ++a) {
-      const index_t v = mesh.tets[4 * t + a];
-      r[a] = {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
-      d[a] = {x[3 * v], x[3 * v + 1], x[3 * v + 2]};
-    }
-    const TetRest<double> tr = tet_rest(r[0], r[1], r[2], r[3]);
-    inverted += det(deformation_gradient(d[0], d[1], d[2], d[3], tr.dm_inv)) <= 0;
-  }
+  for (index_t t = 0; t < mesh.num_tets(); ++t) inverted += det(deformation_of(mesh, x, t)) <= 0;
   std::printf("retried step: %d rollbacks (%d non-finite), %d inverted tets after it\n",
               step.rollbacks, step.nonfinite_rollbacks, inverted);
   EXPECT_EQ(inverted, 0);

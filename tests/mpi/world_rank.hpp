@@ -1,0 +1,13 @@
+#pragma once
+// This process's rank in MPI_COMM_WORLD, for tests that print or check on rank 0.
+#include <mpi.h>
+
+namespace descent::testing {
+
+inline int world_rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+}  // namespace descent::testing
