@@ -111,6 +111,9 @@ class Stepper {
   void observe(int k, const Real* q, const Real* y, const Real* qt) const {
     if (observer_) observer_(k, q, y, qt);
   }
+  // Whether an observer is set: a method that must form q to show it can
+  // skip that work otherwise.
+  bool observed() const { return static_cast<bool>(observer_); }
 
  private:
   Observer observer_;

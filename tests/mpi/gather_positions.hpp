@@ -45,6 +45,17 @@ std::vector<double> gather_positions(MPI_Comm comm, const Simulation<Real>& sim,
   return by_id;
 }
 
+// Sum m |v|^2 / 2 over all vertices (each counted by its owner), all ranks.
+inline double kinetic_energy(MPI_Comm comm, const Simulation<double>& sim) {
+  const auto& mass = sim.problem().mass();
+  const auto& v = sim.state().v;
+  double sum = 0;
+  for (index_t i = 0; i < sim.local_mesh().num_owned; ++i)
+    for (int a = 0; a < 3; ++a) sum += 0.5 * mass[i] * v[3 * i + a] * v[3 * i + a];
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, comm);
+  return sum;
+}
+
 // `frames` steps of `scene` on `comm` and, on rank 0, the same on one rank.
 // On rank 0: the largest |q_P - q_1| and the largest |q_1 - rest| over all
 // coordinates; zeros on the other ranks.

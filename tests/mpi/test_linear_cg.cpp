@@ -165,16 +165,6 @@ TEST(LinearCg, AFewIterationsLowerTheEnergyFromEveryGuess) {
   }
 }
 
-double kinetic_energy(const Simulation<double>& sim) {
-  const auto& mass = sim.problem().mass();
-  const auto& v = sim.state().v;
-  double sum = 0;
-  for (index_t i = 0; i < sim.local_mesh().num_owned; ++i)
-    for (int a = 0; a < 3; ++a) sum += 0.5 * mass[i] * v[3 * i + a] * v[3 * i + a];
-  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  return sum;
-}
-
 TEST(LinearCg, RayleighStiffnessDampingTakesKineticEnergyOut) {
   Scene scene = corotated_helix();
   scene.solver.iterations = 10;
@@ -184,7 +174,7 @@ TEST(LinearCg, RayleighStiffnessDampingTakesKineticEnergyOut) {
     scene.solver.rayleigh_stiffness = damped ? 0.01 : 0.0;
     Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
     for (int frame = 0; frame < 10; ++frame) sim.step();
-    kinetic[damped] = kinetic_energy(sim);
+    kinetic[damped] = testing::kinetic_energy(MPI_COMM_WORLD, sim);
   }
   if (world_rank() == 0)
     std::printf("kinetic energy after 10 frames: %.4e undamped, %.4e with beta = 0.01 s\n",

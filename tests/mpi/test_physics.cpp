@@ -8,23 +8,11 @@
 
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
+#include "gather_positions.hpp"
 #include "small_scenes.hpp"
 
 namespace descent {
 namespace {
-
-double kinetic_energy(const Simulation<double>& sim) {
-  const LocalMesh& l = sim.local_mesh();
-  const auto& v = sim.state().v;
-  const auto& m = sim.problem().mass();
-  double local = 0;
-  for (index_t i = 0; i < l.num_owned; ++i)
-    local += 0.5 * m[i] *
-             (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
-  double total = 0;
-  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  return total;
-}
 
 // With no fixed vertex and nothing but gravity, implicit Euler gives
 // v_n = n h g and q_n = q_0 + g h^2 n (n + 1) / 2 exactly; the solver must
@@ -67,7 +55,7 @@ TEST(Physics, HangingHelixComesToRestAndEnergyNeverRisesWithinAStep) {
   for (int frame = 1; frame <= 150; ++frame) {
     const StepStats step = sim.step();
     EXPECT_LE(step.energy, step.initial_energy + step.energy_tolerance) << "frame " << frame;
-    last = kinetic_energy(sim);
+    last = testing::kinetic_energy(MPI_COMM_WORLD, sim);
     peak = std::max(peak, last);
     if (frame > 120) late_peak = std::max(late_peak, last);
     printf("frame %d KE %g alpha %g rollbacks %d it %d E %.10g\n", frame, last, step.alpha,

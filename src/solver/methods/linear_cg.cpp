@@ -189,9 +189,13 @@ void LinearCg<Real>::iterate(StepStats& stats) {
 #pragma omp parallel for schedule(static)
     for (std::size_t dof = 0; dof < n; ++dof) p_[dof] = z_[dof] + beta * p_[dof];
     ++k;
-    set_positions(v_.data());
-    this->report(k);
+    // q only for an observer (descent study); the step's q is formed below.
+    if (this->observed()) {
+      set_positions(v_.data());
+      this->report(k);
+    }
   }
+  set_positions(v_.data());
   cg_iterations_ = k;
   relative_residual2_ = sums[2] > 0 ? rr / sums[2] : 0;
   stats.iterations = k;
