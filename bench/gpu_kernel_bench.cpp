@@ -1,11 +1,11 @@
-// Element-kernel throughput of the device stepper on one rank: the double
+// Element-kernel throughput of the Chebyshev engine on one rank: the double
 // helix (a preset or a resolution) after one real step, then the element
 // pass alone, gather and scatter, without and with the Hessian diagonal.
 // One line per case, key=value, for bench/gpu_table1.py:
 //   kernel assembly=gather diag=0 tets=324624 us=... bytes=... gbs=...
 //
 //   descent_kernel_bench [--preset 316k | --resolution 15.1] [--precision float|double]
-//                        [--backend cuda|emulated] [--repeats 50]
+//                        [--backend cuda|cpu] [--repeats 50]
 #include <mpi.h>
 
 #include <cstdio>
@@ -15,8 +15,8 @@
 
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
-#include "backends/device_chebyshev.hpp"
 #include "meshes/generators.hpp"
+#include "solver/chebyshev_descent.hpp"
 
 namespace {
 
@@ -57,10 +57,10 @@ void run(const Args& args) {
     Simulation<Real> sim(MPI_COMM_WORLD, scene, mesh,
                          choose_backend(MPI_COMM_WORLD, request, nullptr));
     sim.step();  // a deformed state, as in a run
-    auto& device = dynamic_cast<DeviceChebyshev<Real>&>(sim.stepper());
+    auto& chebyshev = dynamic_cast<ChebyshevDescent<Real>&>(sim.stepper());
     for (bool diag : {false, true}) {
-      device.engine().time_element_pass(diag, 3);  // warm-up
-      const auto t = device.engine().time_element_pass(diag, args.repeats);
+      chebyshev.engine().time_element_pass(diag, 3);  // warm-up
+      const auto t = chebyshev.engine().time_element_pass(diag, args.repeats);
       std::printf("kernel assembly=%s diag=%d precision=%s tets=%d us=%.3f bytes=%.0f gbs=%.1f\n",
                   to_string(assembly), diag ? 1 : 0, args.precision.c_str(), mesh.num_tets(),
                   1e6 * t.seconds, t.bytes, t.bytes / t.seconds / 1e9);

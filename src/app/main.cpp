@@ -60,18 +60,16 @@ int main_with_mpi(int argc, char** argv) {
   run->add_option("--precision", precision,
                   "Real type of the solver (default auto: float on a GPU, double on the CPU)")
       ->check(CLI::IsMember({"auto", "float", "double"}));
-  run->add_option("--backend", backend.backend,
-                  "auto (cuda when a device is visible), cpu, cuda, or emulated (the GPU "
-                  "algorithm on the host, for tests)")
-      ->check(CLI::IsMember({"auto", "cpu", "cuda", "emulated"}));
+  run->add_option("--backend", backend.backend, "auto (cuda when a device is visible), cpu or cuda")
+      ->check(CLI::IsMember({"auto", "cpu", "cuda"}));
   run->add_option("--assembly", backend.assembly,
-                  "Device stepper: element results to vertices by gather (deterministic, "
+                  "Chebyshev engine: element results to vertices by gather (deterministic, "
                   "default) or scatter (atomics)")
       ->check(CLI::IsMember({"gather", "scatter"}));
   run->add_flag("--share-device", backend.share_device,
                 "Let more ranks per node than visible GPUs share them");
   run->add_flag("--no-graphs", no_graphs,
-                "Device stepper: launch every kernel instead of replaying captured graphs");
+                "CUDA engine: launch every kernel instead of replaying captured graphs");
   run->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
       ->check(CLI::PositiveNumber);
 

@@ -261,8 +261,8 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
     std::printf("descent: %d frames in %.1f s, %.1f ms/frame, %.1f ns per tet-iteration\n",
                 scene.time.frames, total_ms / 1e3, total_ms / scene.time.frames,
                 ns_per_tet_iteration);
-    if (backend.kind != BackendKind::cpu)
-      std::printf("descent: %s\n", sim.device_timing_report().c_str());
+    const std::string timing = sim.stepper_timing_report();
+    if (!timing.empty()) std::printf("descent: %s\n", timing.c_str());
     std::printf("descent: wrote %s, %s and %s\n", frames.h5_path().c_str(),
                 frames.xdmf_path().c_str(), stats.path().c_str());
   }

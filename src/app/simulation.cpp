@@ -109,17 +109,18 @@ void Simulation<Real>::set_positions(const std::vector<double>& global_xyz) {
 
 template <class Real>
 StepStats Simulation<Real>::step() {
-  const double alpha = solver_->alpha();
+  const StepMemory memory = solver_->memory();
   StepStats first = solver_->step(state_);
   if (first.finite) return first;
   // The failed step left the body at its start, which is finite; only the
   // guess was not. Every rank knows (the reduction), so all retry alike.
-  solver_->set_alpha(alpha);
+  solver_->set_memory(memory);
   solver_->guess_next_step_from_start();
   StepStats retry = solver_->step(state_);
   retry.retried_from_start = true;
   retry.rollbacks += first.rollbacks;
   retry.nonfinite_rollbacks += first.nonfinite_rollbacks;
+  retry.spectrum_steps += first.spectrum_steps;
   if (!retry.rejected_at.found()) retry.rejected_at = first.rejected_at;
   return retry;
 }
@@ -133,7 +134,12 @@ Checkpoint Simulation<Real>::checkpoint(int frame) const {
   c.num_global_vertices = num_global_vertices_;
   c.num_global_tets = num_global_tets_;
   c.time = state_.time;
-  c.alpha = solver_->alpha();
+  const StepMemory memory = solver_->memory();
+  c.alpha = memory.alpha;
+  c.lambda_min = memory.lambda_min;
+  c.lambda_max = memory.lambda_max;
+  c.steps_since_estimate = memory.steps_since_estimate;
+  c.reestimate = memory.reestimate;
   c.q.assign(state_.q.begin(), state_.q.end());
   c.v.assign(state_.v.begin(), state_.v.end());
   c.v_prev.assign(state_.v_prev.begin(), state_.v_prev.end());
@@ -158,7 +164,7 @@ void Simulation<Real>::restore(const Checkpoint& c) {
   state_.v.assign(c.v.begin(), c.v.end());
   state_.v_prev.assign(c.v_prev.begin(), c.v_prev.end());
   state_.time = c.time;
-  solver_->set_alpha(c.alpha);
+  solver_->set_memory({c.alpha, c.lambda_min, c.lambda_max, c.steps_since_estimate, c.reestimate});
   problem_.set_interpolants(std::vector<Real>(c.interpolants.begin(), c.interpolants.end()));
 }
 

@@ -6,18 +6,32 @@
 
 #include <cstdio>
 
-#include "backends/device_chebyshev.hpp"
 #include "comm/mpi_check.hpp"
 #include "common/error.hpp"
+#include "solver/chebyshev_descent.hpp"
 
 namespace descent {
+
+namespace {
+
+std::string format_percent(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f%%", value);
+  return text;
+}
+
+std::string format_milliseconds(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f ms", 1e3 * seconds);
+  return text;
+}
+
+}  // namespace
 
 const char* to_string(BackendKind kind) {
   switch (kind) {
     case BackendKind::cpu:
       return "cpu";
-    case BackendKind::emulated:
-      return "emulated";
     case BackendKind::cuda:
       return "cuda";
   }
@@ -34,7 +48,7 @@ bool mpi_cuda_aware() {
 
 std::string backend_report() {
   const CudaStatus s = cuda_status();
-  std::string out = "backends: cpu, emulated";
+  std::string out = "backends: cpu";
   if (s.compiled) {
     out +=
         detail::concat(", cuda (runtime ", s.runtime_version / 1000, ".",
@@ -83,12 +97,8 @@ BackendChoice choose_backend(MPI_Comm comm, const BackendRequest& request, std::
   choice.engine.graphs = request.graphs;
   const std::string& want = request.backend;
   if (want == "cpu") return choice;
-  if (want == "emulated") {
-    choice.kind = BackendKind::emulated;
-    return choice;
-  }
   if (want != "auto" && want != "cuda")
-    throw InputError("--backend must be auto, cpu, cuda or emulated, not '" + want + "'");
+    throw InputError("--backend must be auto, cpu or cuda, not '" + want + "'");
 
   int local_rank = 0, local_size = 1;
   node_rank(comm, &local_rank, &local_size);
@@ -123,44 +133,51 @@ template <class Real>
 std::unique_ptr<Stepper<Real>> make_backend_stepper(LocalProblem<Real>& problem, Halo<Real>& halo,
                                                     const SolverSpec& spec,
                                                     const BackendChoice& backend) {
-  if (backend.kind == BackendKind::cpu) return make_stepper(problem, spec);
-  if (spec.method != "chebyshev")
+  const bool cuda = backend.kind == BackendKind::cuda;
+  if (spec.method != "chebyshev") {
+    if (!cuda) return make_stepper(problem, spec);
     throw InputError(detail::concat("solver.method = ", spec.method,
-                                    " runs on the cpu backend only; ", "use --backend cpu (the ",
-                                    to_string(backend.kind), " backend runs chebyshev)"));
-  // The device stepper forms these initial guesses itself; others (e.g. the
-  // optimized step of Eq. 10) are computed by the CPU stepper only.
-  if (spec.init != "position" && spec.init != "velocity" && spec.init != "constant_acceleration")
-    throw InputError(detail::concat("solver.init = ", spec.init, " runs on the cpu backend only; ",
-                                    "use --backend cpu, or init = constant_acceleration, velocity "
-                                    "or position"));
-  auto engine = backend.kind == BackendKind::cuda ? make_cuda_engine(problem, halo, backend.engine)
-                                                  : make_host_engine(problem, halo, backend.engine);
-  return std::make_unique<DeviceChebyshev<Real>>(problem, spec, std::move(engine));
+                                    " runs on the cpu backend only; use --backend cpu (the cuda "
+                                    "backend runs chebyshev)"));
+  }
+  // The optimized step of Eq. 10 is formed on the host from the problem's
+  // gradient: on a device it would cost the whole mesh on the CPU per step.
+  if (cuda && spec.init == "optimized")
+    throw InputError(
+        "solver.init = optimized runs on the cpu backend only; use --backend cpu, or init = "
+        "constant_acceleration, velocity or position");
+  auto engine = cuda ? make_cuda_engine(problem, halo, backend.engine)
+                     : make_host_engine(problem, halo, backend.engine);
+  return std::make_unique<ChebyshevDescent<Real>>(problem, spec, std::move(engine));
 }
 
 template <class Real>
 std::string device_memory_report(const Stepper<Real>& stepper, long long tets, long long vertices) {
-  const auto* device = dynamic_cast<const DeviceChebyshev<Real>*>(&stepper);
-  if (!device) return {};
-  const DeviceMemory m = device->engine().memory();
-  return detail::concat(device->engine().describe(), ": ", m.total() >> 20,
+  const auto* chebyshev = dynamic_cast<const ChebyshevDescent<Real>*>(&stepper);
+  if (!chebyshev || !chebyshev->engine().on_device()) return {};
+  const EngineMemory m = chebyshev->engine().memory();
+  return detail::concat(chebyshev->engine().describe(), ": ", m.total() >> 20,
                         " MiB on device: ", tets > 0 ? m.tet_bytes / tets : 0, " bytes per tet, ",
                         vertices > 0 ? m.vertex_bytes / vertices : 0, " per vertex");
 }
 
 template <class Real>
-std::string device_timing_report(const Stepper<Real>& stepper) {
-  const auto* device = dynamic_cast<const DeviceChebyshev<Real>*>(&stepper);
-  if (!device) return {};
-  const double iterate = device->iterate_seconds(), check = device->check_seconds();
-  const double total = iterate + check;
-  char text[160];
-  std::snprintf(text, sizeof text,
-                "energy checks and rollbacks %.1f%% of iteration time (%.1f of %.1f ms); %ld "
-                "graph launches",
-                total > 0 ? 100 * check / total : 0.0, 1e3 * check, 1e3 * total,
-                device->engine().graph_launches());
+std::string stepper_timing_report(const Stepper<Real>& stepper) {
+  const auto* chebyshev = dynamic_cast<const ChebyshevDescent<Real>*>(&stepper);
+  if (!chebyshev) return {};
+  const double iterate = chebyshev->iterate_seconds(), check = chebyshev->check_seconds();
+  const double estimate = chebyshev->estimate_seconds();
+  const double total = iterate + check + estimate;
+  auto share = [total](double part) { return total > 0 ? 100 * part / total : 0.0; };
+  std::string text = detail::concat("energy checks and rollbacks ", format_percent(share(check)),
+                                    " of step time (", format_milliseconds(check), " of ",
+                                    format_milliseconds(total), ")");
+  if (chebyshev->estimates() > 0)
+    text +=
+        detail::concat("; ", chebyshev->estimates(), " spectrum estimate(s) ",
+                       format_percent(share(estimate)), " (", format_milliseconds(estimate), ")");
+  if (chebyshev->engine().on_device())
+    text += detail::concat("; ", chebyshev->engine().graph_launches(), " graph launches");
   return text;
 }
 
@@ -172,7 +189,7 @@ template std::unique_ptr<Stepper<float>> make_backend_stepper(LocalProblem<float
                                                               const BackendChoice&);
 template std::string device_memory_report(const Stepper<double>&, long long, long long);
 template std::string device_memory_report(const Stepper<float>&, long long, long long);
-template std::string device_timing_report(const Stepper<double>&);
-template std::string device_timing_report(const Stepper<float>&);
+template std::string stepper_timing_report(const Stepper<double>&);
+template std::string stepper_timing_report(const Stepper<float>&);
 
 }  // namespace descent

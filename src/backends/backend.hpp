@@ -8,24 +8,23 @@
 #include <string>
 #include <vector>
 
-#include "backends/device_engine.hpp"
 #include "comm/halo.hpp"
 #include "io/scene.hpp"
+#include "solver/iteration_engine.hpp"
 #include "solver/local_problem.hpp"
 #include "solver/stepper.hpp"
 
 namespace descent {
 
 enum class BackendKind {
-  cpu,       // solver/ steppers on OpenMP loops (every method)
-  emulated,  // the device stepper on the host execution: the GPU algorithm, for tests
-  cuda,      // the device stepper on a CUDA device
+  cpu,   // every method on OpenMP loops; chebyshev's engine on the host
+  cuda,  // chebyshev's engine on a CUDA device
 };
 const char* to_string(BackendKind kind);
 
 struct BackendChoice {
   BackendKind kind = BackendKind::cpu;
-  EngineOptions engine;  // device stepper only
+  EngineOptions engine;  // the Chebyshev engine's (graphs and device: CUDA only)
 };
 
 // What this process can see of CUDA (kernels/cuda/cuda_status.cpp, or
@@ -55,7 +54,7 @@ std::string backend_report();
 
 // What the user asked for (command line).
 struct BackendRequest {
-  std::string backend = "auto";     // auto | cpu | cuda | emulated
+  std::string backend = "auto";     // auto | cpu | cuda
   std::string assembly = "gather";  // gather | scatter
   bool share_device = false;        // let several ranks of a node use one device
   bool graphs = true;
@@ -68,19 +67,21 @@ struct BackendRequest {
 // device is used, which device).
 BackendChoice choose_backend(MPI_Comm comm, const BackendRequest& request, std::string* note);
 
-// The stepper of spec.method on the chosen backend; the device backends run
+// The stepper of spec.method on the chosen backend; the cuda backend runs
 // only the chebyshev method (InputError otherwise).
 template <class Real>
 std::unique_ptr<Stepper<Real>> make_backend_stepper(LocalProblem<Real>& problem, Halo<Real>& halo,
                                                     const SolverSpec& spec,
                                                     const BackendChoice& backend);
 
-// "N MiB on device: B bytes per tet, B per vertex" for a device stepper; empty otherwise.
+// "N MiB on device: B bytes per tet, B per vertex" for a stepper whose engine
+// is on a device; empty otherwise.
 template <class Real>
 std::string device_memory_report(const Stepper<Real>& stepper, long long tets, long long vertices);
 
-// "energy checks ... X% of iteration time" for a device stepper; empty otherwise.
+// For the Chebyshev stepper: "energy checks ... X% of iteration time" and the
+// share of the spectrum estimates; empty for other methods.
 template <class Real>
-std::string device_timing_report(const Stepper<Real>& stepper);
+std::string stepper_timing_report(const Stepper<Real>& stepper);
 
 }  // namespace descent

@@ -12,17 +12,18 @@ CudaStatus cuda_status() {
 }
 
 template <class Real>
-std::unique_ptr<DeviceEngine<Real>> make_cuda_engine(LocalProblem<Real>&, Halo<Real>&,
-                                                     const EngineOptions&) {
+std::unique_ptr<IterationEngine<Real>> make_cuda_engine(LocalProblem<Real>&, Halo<Real>&,
+                                                        const EngineOptions&) {
   throw InputError(
       "this build of descent has no CUDA backend: reconfigure with a CUDA compiler "
       "(CUDACXX or PATH) and -DDESCENT_ENABLE_CUDA=ON");
 }
 
-template std::unique_ptr<DeviceEngine<double>> make_cuda_engine(LocalProblem<double>&,
-                                                                Halo<double>&,
-                                                                const EngineOptions&);
-template std::unique_ptr<DeviceEngine<float>> make_cuda_engine(LocalProblem<float>&, Halo<float>&,
-                                                               const EngineOptions&);
+template std::unique_ptr<IterationEngine<double>> make_cuda_engine(LocalProblem<double>&,
+                                                                   Halo<double>&,
+                                                                   const EngineOptions&);
+template std::unique_ptr<IterationEngine<float>> make_cuda_engine(LocalProblem<float>&,
+                                                                  Halo<float>&,
+                                                                  const EngineOptions&);
 
 }  // namespace descent

@@ -12,7 +12,8 @@ namespace descent {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr char kMagic[] = "descent-checkpoint-1\n";
+constexpr char kMagic[] = "descent-checkpoint-2\n";
+constexpr char kMagicVersion1[] = "descent-checkpoint-1\n";
 
 template <class T>
 void put(std::ofstream& out, const T& value) {
@@ -66,6 +67,10 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     put(out, std::int64_t(c.interpolants.size()));
     put(out, c.time);
     put(out, c.alpha);
+    put(out, c.lambda_min);
+    put(out, c.lambda_max);
+    put(out, std::int32_t(c.steps_since_estimate));
+    put(out, std::int32_t(c.reestimate ? 1 : 0));
     put_array(out, c.q);
     put_array(out, c.v);
     put_array(out, c.v_prev);
@@ -83,7 +88,9 @@ Checkpoint read_checkpoint(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("no checkpoint " + path + " (was the run started with checkpoints?)");
   char magic[sizeof kMagic - 1];
-  if (!in.read(magic, sizeof magic) || std::memcmp(magic, kMagic, sizeof magic) != 0)
+  if (!in.read(magic, sizeof magic)) throw InputError(path + " is not a descent checkpoint");
+  const bool version1 = std::memcmp(magic, kMagicVersion1, sizeof magic) == 0;
+  if (!version1 && std::memcmp(magic, kMagic, sizeof magic) != 0)
     throw InputError(path + " is not a descent checkpoint");
   Checkpoint c;
   c.num_ranks = get<std::int32_t>(in, path);
@@ -95,6 +102,12 @@ Checkpoint read_checkpoint(const std::string& path) {
   const auto tets = get<std::int64_t>(in, path);
   c.time = get<double>(in, path);
   c.alpha = get<double>(in, path);
+  if (!version1) {
+    c.lambda_min = get<double>(in, path);
+    c.lambda_max = get<double>(in, path);
+    c.steps_since_estimate = get<std::int32_t>(in, path);
+    c.reestimate = get<std::int32_t>(in, path) != 0;
+  }
   c.q = get_array(in, dofs, path);
   c.v = get_array(in, dofs, path);
   c.v_prev = get_array(in, dofs, path);

@@ -4,11 +4,14 @@
 // a restart on the same rank count continues bit for bit.
 //
 // File layout (native byte order, doubles IEEE 754):
-//   "descent-checkpoint-1\n"        magic and version
+//   "descent-checkpoint-2\n"        magic and version
 //   int32  num_ranks, rank, frame
 //   int64  num_global_vertices, num_global_tets, local dofs, local tets
-//   double time, alpha
+//   double time, alpha, lambda_min, lambda_max
+//   int32  steps_since_estimate, reestimate (0 or 1)
 //   double q[dofs], v[dofs], v_prev[dofs], interpolants[tets or 0]
+// Version 1 (no spectrum fields) is still read: its run estimates the
+// spectrum anew at the first step.
 // Written to a temporary file and renamed, so a kill never leaves half a file;
 // the previous checkpoint is kept as PATH.prev, because ranks write theirs
 // one after another and a kill between two ranks' writes leaves some ranks a
@@ -27,7 +30,11 @@ struct Checkpoint {
   long long num_global_vertices = 0;
   long long num_global_tets = 0;
   double time = 0;
+  // The stepper's StepMemory (solver/stepper.hpp).
   double alpha = 0;
+  double lambda_min = 0, lambda_max = 0;
+  int steps_since_estimate = 0;
+  bool reestimate = false;
   std::vector<double> q, v, v_prev;  // 3 per local vertex
   std::vector<double> interpolants;  // per local tet; empty without conversion
 };

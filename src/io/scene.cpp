@@ -62,6 +62,7 @@ Scene read_scene(SceneDocument doc, const std::vector<std::string>& overrides,
   SceneFields fields = read_scene_fields(doc);
   check_mesh_source(doc, fields.scene);
   apply_helix_preset(doc, fields);
+  resolve_chebyshev_parameters(doc, fields.scene.solver);
   check_scene_values(doc, fields.scene);
   resolve_mesh_file(doc, scene_dir, fields.scene.mesh);
   fields.scene.source = doc.source;

@@ -235,6 +235,35 @@ void apply_helix_preset(const SceneDocument& doc, SceneFields& fields) {
   }
 }
 
+void resolve_chebyshev_parameters(const SceneDocument& doc, SolverSpec& solver) {
+  const char* fixed_key = nullptr;
+  for (const char* key : {"solver.rho", "solver.phase_rho", "solver.alpha_max"})
+    if (!fixed_key && doc.has(key)) fixed_key = key;
+  if (!doc.has("solver.chebyshev_parameters")) {
+    if (fixed_key) solver.chebyshev_parameters = "fixed";
+  } else if (solver.chebyshev_parameters == "auto" && fixed_key &&
+             !(doc.from_scene_file(*doc.find(fixed_key)) &&
+               !doc.from_scene_file(*doc.find("solver.chebyshev_parameters")))) {
+    // An override (--set, a study case) of "auto" over a scene file's fixed
+    // keys is the command line winning; within one source it is a conflict.
+    throw InputError(detail::concat(
+        doc.where(fixed_key), ": ", fixed_key,
+        " is a fixed Chebyshev parameter, but solver.chebyshev_parameters = \"auto\" (",
+        doc.where("solver.chebyshev_parameters"),
+        ") takes alpha and rho from the spectrum: drop one of them"));
+  }
+  const toml::node* delay = doc.find("solver.chebyshev_delay");
+  const toml::node* mode = doc.find("solver.chebyshev_parameters");
+  const bool overridden = mode && !doc.from_scene_file(*mode);
+  if (solver.chebyshev_parameters == "auto" && delay &&
+      !(overridden && doc.from_scene_file(*delay)))
+    throw InputError(detail::concat(
+        doc.where("solver.chebyshev_delay"),
+        ": solver.chebyshev_delay applies to fixed Chebyshev parameters (set solver.rho and "
+        "solver.alpha_max, or solver.chebyshev_parameters = \"fixed\"); the automatic "
+        "parameters start the recurrence at the first iteration"));
+}
+
 void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require(doc, scene.mesh.scale > 0, "mesh.scale", "> 0", scene.mesh.scale);
   if (scene.mesh.generator == "double_helix") check_helix(doc, scene.mesh.helix);
@@ -286,6 +315,25 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require_one_of(doc, "solver.newton_solver", solver.newton_solver, {"cg", "ldlt"});
   check_linear_cg(doc, scene);
   require(doc, solver.iterations >= 1, "solver.iterations", ">= 1", solver.iterations);
+  require_one_of(doc, "solver.chebyshev_parameters", solver.chebyshev_parameters,
+                 {"auto", "fixed"});
+  require(doc, solver.accuracy >= 0 && solver.accuracy < 1, "solver.accuracy",
+          "in [0, 1) (0: a fixed iteration count)", solver.accuracy);
+  if (solver.accuracy > 0 && solver.method != "chebyshev")
+    throw InputError(detail::concat(doc.where("solver.accuracy"),
+                                    ": solver.accuracy chooses the iteration count of "
+                                    "solver.method = chebyshev, not of ",
+                                    solver.method));
+  if (solver.accuracy > 0 && solver.phase_rho.size() > 1)
+    throw InputError(detail::concat(doc.where("solver.accuracy"),
+                                    ": solver.accuracy counts iterations by one Chebyshev bound "
+                                    "and does not combine with several solver.phase_rho"));
+  require(doc, solver.spectrum_steps >= 2 && solver.spectrum_steps <= 1000, "solver.spectrum_steps",
+          "in [2, 1000]", solver.spectrum_steps);
+  require(doc, solver.spectrum_interval >= 0, "solver.spectrum_interval",
+          ">= 0 (0: estimate again only after a rollback)", solver.spectrum_interval);
+  require(doc, solver.spectrum_margin >= 0 && solver.spectrum_margin <= 10,
+          "solver.spectrum_margin", "in [0, 10]", solver.spectrum_margin);
   require(doc, solver.rho >= 0 && solver.rho < 1, "solver.rho", "in [0, 1)", solver.rho);
   require(doc, solver.chebyshev_delay >= 0, "solver.chebyshev_delay", ">= 0",
           solver.chebyshev_delay);

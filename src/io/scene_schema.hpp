@@ -56,7 +56,12 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
 
   SolverSpec& solver = scene.solver;
   visit("solver.method", solver.method);
+  visit("solver.chebyshev_parameters", solver.chebyshev_parameters);
   visit("solver.iterations", solver.iterations);
+  visit("solver.accuracy", solver.accuracy);
+  visit("solver.spectrum_steps", solver.spectrum_steps);
+  visit("solver.spectrum_interval", solver.spectrum_interval);
+  visit("solver.spectrum_margin", solver.spectrum_margin);
   visit("solver.rho", solver.rho);
   visit("solver.chebyshev_delay", solver.chebyshev_delay);
   visit("solver.hessian_interval", solver.hessian_interval);

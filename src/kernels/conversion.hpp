@@ -11,6 +11,7 @@
 // energy mu |F - R|^2 its diagonal is 2 mu V |b_a|^2 on every axis of corner a.
 #include "kernels/arap.hpp"
 #include "kernels/element.hpp"
+#include "kernels/element_hessian_product.hpp"
 #include "kernels/svd3.hpp"
 
 namespace descent {
@@ -87,6 +88,23 @@ DESCENT_HOST_DEVICE inline void converted_gradient(const Model& model, const Con
                rest.volume * ((Real(1) - l) * diag[a].y + l * pd),
                rest.volume * ((Real(1) - l) * diag[a].z + l * pd)};
   }
+}
+
+// The hybrid element Hessian (1 - l) H + l H_arap at the stored interpolant
+// l applied to p (l held constant, as converted_gradient holds it), for the
+// spectrum estimate of the preconditioned Hessian. At l = 1 the model is not
+// evaluated, as in the gradient.
+template <class Real, class Model>
+DESCENT_HOST_DEVICE inline void converted_hessian_product(
+    const Model& model, const Conversion<Real>& conv, Real l, const TetRest<Real>& rest,
+    const TetCorners<Real>& c, const Vec3<Real> p[4], Vec3<Real> out[4]) {
+  Vec3<Real> base[4] = {}, blended[4] = {};
+  if (l < Real(1)) element_hessian_product(model, rest, c, p, base);
+  if (l > Real(0)) element_hessian_product(conv.arap, rest, c, p, blended);
+  for (int a = 0; a < 4; ++a)
+    out[a] = {(Real(1) - l) * base[a].x + l * blended[a].x,
+              (Real(1) - l) * base[a].y + l * blended[a].y,
+              (Real(1) - l) * base[a].z + l * blended[a].z};
 }
 
 }  // namespace descent

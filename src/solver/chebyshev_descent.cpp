@@ -1,15 +1,78 @@
 #include "solver/chebyshev_descent.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "common/error.hpp"
-#include "kernels/vertex.hpp"
+#include "solver/check_history.hpp"
 #include "solver/methods/chebyshev_phases.hpp"
+#include "solver/spectrum.hpp"
 #include "solver/step_control.hpp"
 
 namespace descent {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Adds the time from construction to destruction to `total`.
+struct ScopedTimer {
+  double& total;
+  Clock::time_point start = Clock::now();
+  ~ScopedTimer() { total += seconds_since(start); }
+};
+
+// A deterministic value in [-1, 1] for global dof `id` (splitmix64), the
+// same on every rank count.
+double noise(std::uint64_t id) {
+  std::uint64_t z = id + 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+}
+
+// Weight of the noise in the Lanczos start vector, relative to the RMS of
+// its motion part.
+constexpr double kStartNoise = 0.05;
+// The smallest eigenvalue bound admitted is upper / kMaxCondition: the
+// exact Hessian can be indefinite (a compressed neo-Hookean body), where
+// Lanczos finds lambda_min <= 0 and no Chebyshev interval exists.
+constexpr double kMaxCondition = 1e8;
+// With solver.accuracy the step ends once the estimated error is below
+// kTargetShare of the target with the bound agreeing, or below
+// kConfidentShare of it on the energies alone.
+constexpr double kTargetShare = 0.5;
+constexpr double kConfidentShare = 0.1;
+
+// The parameters the step's iterations run with, changed by rollbacks.
+struct Schedule {
+  bool automatic = false;
+  int delay = 0;     // plain iterations after a (re)start
+  double alpha = 0;  // step length
+  double lower = 0;  // automatic: spectrum bounds
+  double upper = 0;
+  double phi = 0;  // the bound's rate (0: no single rate, e.g. phases)
+  double rho = 0;  // of the single phase (automatic or fixed)
+
+  void set_bounds(double a, double b) {
+    const ChebyshevParameters p = chebyshev_parameters(a, b);
+    lower = a;
+    upper = b;
+    alpha = p.alpha;
+    rho = p.rho;
+    phi = p.phi;
+  }
+};
+
+}  // namespace
 
 template <class Real>
 BodyState<Real> rest_state(const LocalMesh& mesh) {
@@ -21,110 +84,247 @@ BodyState<Real> rest_state(const LocalMesh& mesh) {
 }
 
 template <class Real>
-ChebyshevDescent<Real>::ChebyshevDescent(LocalProblem<Real>& problem, const SolverSpec& spec)
-    : problem_(problem), spec_(spec), alpha_(spec.alpha_max) {
-  const std::size_t n = 3 * static_cast<std::size_t>(problem.num_vertices());
-  for (auto* v : {&y_, &qt_, &q_, &q_prev_, &q_checked_, &q_next_, &diag_}) v->resize(n);
+ChebyshevDescent<Real>::ChebyshevDescent(LocalProblem<Real>& problem, const SolverSpec& spec,
+                                         std::unique_ptr<IterationEngine<Real>> engine)
+    : problem_(problem), spec_(spec), engine_(std::move(engine)) {
+  DESCENT_VERIFY(spec.method == "chebyshev",
+                 "the Chebyshev stepper runs solver.method = chebyshev");
+  memory_.alpha = spec.alpha_max;
+  const auto staging = engine_->staging();
+  q_ = staging.q;
+  y_ = staging.y;
+  qt_ = staging.qt;
+}
+
+template <class Real>
+void ChebyshevDescent<Real>::stage_start_vector(const BodyState<Real>& state) {
+  const LocalMesh& mesh = problem_.mesh();
+  const auto& fixed = problem_.fixed_axes();
+  const auto& mass = problem_.mass();
+  const auto& force = problem_.external_force();
+  const VertexTerms<Real> terms = problem_.vertex_terms();
+  auto free_dof = [&](std::size_t k) { return !(fixed[k / 3] & (1u << (k % 3))); };
+  auto acceleration = [&](std::size_t k) {
+    return static_cast<double>(terms.gravity[k % 3]) + force[k] / mass[k / 3];
+  };
+  // Over owned free dofs: |v|^2, |acceleration|^2, count.
+  double sums[3] = {0, 0, 0};
+  for (std::size_t k = 0; k < 3 * static_cast<std::size_t>(mesh.num_owned); ++k) {
+    if (!free_dof(k)) continue;
+    sums[0] += static_cast<double>(state.v[k]) * state.v[k];
+    sums[1] += acceleration(k) * acceleration(k);
+    sums[2] += 1;
+  }
+  problem_.global_dots(sums, 3);
+  const bool moving = sums[0] > 0;
+  const double rms = sums[2] > 0 ? std::sqrt((moving ? sums[0] : sums[1]) / sums[2]) : 0;
+  const double scale = rms > 0 ? kStartNoise * rms : 1;
+  Real* s = engine_->staging().vector;
+  for (std::size_t k = 0; k < 3 * static_cast<std::size_t>(mesh.num_vertices()); ++k) {
+    const double motion =
+        moving ? static_cast<double>(state.v[k]) : (rms > 0 ? acceleration(k) : 0);
+    const std::uint64_t id = 3 * static_cast<std::uint64_t>(mesh.global_vertex[k / 3]) + k % 3;
+    s[k] = static_cast<Real>(motion + scale * noise(id));
+  }
+}
+
+template <class Real>
+bool ChebyshevDescent<Real>::prepare_spectrum(const BodyState<Real>& state, StepStats& stats) {
+  const bool due =
+      !(memory_.lambda_max > 0) || memory_.reestimate ||
+      (spec_.spectrum_interval > 0 && memory_.steps_since_estimate >= spec_.spectrum_interval);
+  if (!due) {
+    ++memory_.steps_since_estimate;
+    return false;
+  }
+  ScopedTimer timer{estimate_seconds_};
+  engine_->refresh_diagonal();
+  stage_start_vector(state);
+  const LanczosRun run = lanczos(*engine_, problem_, spec_.spectrum_steps);
+  ++estimates_;
+  stats.spectrum_steps = run.steps;
+  if (run.steps > 0 && run.ritz.highest > 0 && std::isfinite(run.ritz.highest)) {
+    const double upper = (1 + spec_.spectrum_margin) * run.ritz.highest;
+    memory_.lambda_max = upper;
+    memory_.lambda_min = std::max(run.ritz.lowest, upper / kMaxCondition);
+  } else if (!(memory_.lambda_max > 0)) {
+    // Nothing to estimate from (no free dof moves, or a non-finite
+    // Hessian): the Jacobi bound of a diagonally dominant matrix, 2.
+    memory_.lambda_max = 2;
+    memory_.lambda_min = 2 / kMaxCondition;
+  }
+  memory_.steps_since_estimate = 1;
+  memory_.reestimate = false;
+  return true;
 }
 
 template <class Real>
 StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   const double t_next = state.time + static_cast<double>(problem_.dt());
   problem_.begin_step(t_next);
-  predict_positions(spec_, problem_, state, qt_.data(), y_.data(), q_.data(),
-                    this->take_guess_from_start());
-  problem_.hold_fixed(t_next, q_.data());
-  StepStats stats;
-  alpha_ = std::min(spec_.alpha_max, alpha_ / spec_.gamma);
-  const auto& mass = problem_.mass();
-  const auto& fixed = problem_.fixed_axes();
-  const VertexTerms<Real> terms = problem_.vertex_terms();
-  const Real* floor = problem_.diagonal_floor().data();
-  const Real* force = problem_.external_force().data();
-  const ChebyshevPhases phases(spec_);
-  const std::size_t n = q_.size();
-
-  // The initial guess is the first checked state (step_control.hpp).
+  predict_positions(spec_, problem_, state, qt_, y_, q_, this->take_guess_from_start());
+  problem_.hold_fixed(t_next, q_);
   EnergyCheck check(problem_.energy_changes_within_step());
-  const Energy initial_local_energy =
-      check.reevaluate() ? Energy{} : problem_.local_energy(q_.data(), y_.data(), qt_.data());
-  q_checked_ = q_;
-  q_prev_ = q_;
+  const bool reevaluate = check.reevaluate();
+  // Loads travel only when some are applied (or were: back to zero).
+  const auto& force = problem_.external_force();
+  const bool force_nonzero =
+      std::any_of(force.begin(), force.end(), [](Real f) { return f != Real(0); });
+  const bool upload_force = force_nonzero || force_on_engine_nonzero_;
+  if (upload_force) std::copy(force.begin(), force.end(), engine_->staging().force);
+  force_on_engine_nonzero_ = force_nonzero;
+  engine_->begin_step(upload_force, reevaluate ? problem_.interpolants().data() : nullptr);
+
+  StepStats stats;
+  Schedule schedule;
+  schedule.automatic = spec_.chebyshev_parameters == "auto";
+  bool diagonal_fresh = false;
+  const ChebyshevPhases phases(spec_);
+  if (schedule.automatic) {
+    diagonal_fresh = prepare_spectrum(state, stats);
+    schedule.delay = 1;  // the semi-iterative method: one plain step, then Chebyshev
+    schedule.set_bounds(memory_.lambda_min, memory_.lambda_max);
+  } else {
+    memory_.alpha = std::min(spec_.alpha_max, memory_.alpha / spec_.gamma);
+    schedule.delay = spec_.chebyshev_delay;
+    schedule.alpha = memory_.alpha;
+    if (spec_.phase_rho.size() <= 1 && spec_.rho > 0) {
+      schedule.rho = spec_.phase_rho.empty() ? spec_.rho : spec_.phase_rho.front();
+      schedule.phi = chebyshev_rate(schedule.rho);
+    }
+  }
+  // The accuracy target: no stop before the bound's count since the
+  // (re)start, unless the energies alone are conclusive.
+  const double target = spec_.accuracy;
+  auto bound_iterations = [&] {
+    return schedule.phi > 0 ? chebyshev_iterations_for(schedule.phi, kTargetShare * target) : 0;
+  };
+  int prior_iterations = target > 0 ? bound_iterations() : 0;
+  CheckHistory history;
+  stats.error_estimate = std::numeric_limits<double>::quiet_NaN();
+
+  const Energy initial_local_energy = reevaluate ? Energy{} : engine_->local_energy(false);
   Real omega = 1;
   int chebyshev_k = 0;  // iterations since the last (re)start of Chebyshev
+  bool best_is_current = true;
+  std::vector<std::uint8_t> refresh;
+  std::vector<Real> alphas, omegas;
+  const bool observed = this->observed();
+  this->observe(0, q_, y_, qt_);
 
-  this->observe(0, q_.data(), y_.data(), qt_.data());
-  for (int k = 0; k < spec_.iterations; ++k) {
-    const bool refresh_diagonal = k % spec_.hessian_interval == 0;
-    // A new phase restarts the recurrence, skipping the plain iterations of S.
-    if (phases.starts_phase(k)) chebyshev_k = spec_.chebyshev_delay;
-    const Real rho2 = static_cast<Real>(phases.rho(k) * phases.rho(k));
-    const auto assembled = problem_.elastic_gradient(q_.data(), refresh_diagonal);
-    omega = chebyshev_omega(chebyshev_k, spec_.chebyshev_delay, rho2, omega);
-    const Real alpha = static_cast<Real>(alpha_);
-    const Real* a = assembled.values;
-    const int width = assembled.width;
-
-#pragma omp parallel for schedule(static)
-    for (std::size_t dof = 0; dof < n; ++dof) {
-      const std::size_t v = dof / 3;
-      const int axis = static_cast<int>(dof % 3);
-      if (refresh_diagonal)
-        diag_[dof] = dof_diagonal(terms, mass[v], a[width * v + 3 + axis], floor[dof]);
-      if (fixed[v] & (1u << axis)) {
-        q_next_[dof] = q_[dof];
-        continue;
-      }
-      const Real g = dof_gradient(terms, mass[v], a[width * v + axis], q_[dof], y_[dof], qt_[dof],
-                                  force[dof], axis);
-      q_next_[dof] = chebyshev_dof(q_[dof], q_prev_[dof], g, diag_[dof], alpha, omega);
+  for (int k = 0; k < spec_.iterations;) {
+    // The iterations up to the next check run as one block (one at a time
+    // when observed); their parameters are known now, as a check is the
+    // only thing that changes alpha or restarts Chebyshev.
+    const int check_at =
+        std::min(spec_.iterations, (k / spec_.check_interval + 1) * spec_.check_interval);
+    const int end = observed ? k + 1 : check_at;
+    refresh.clear();
+    alphas.clear();
+    omegas.clear();
+    for (int j = k; j < end; ++j) {
+      if (!schedule.automatic && phases.starts_phase(j)) chebyshev_k = schedule.delay;
+      const double rho = schedule.automatic ? schedule.rho : phases.rho(j);
+      const Real rho2 = static_cast<Real>(rho * rho);
+      omega = chebyshev_omega(chebyshev_k, schedule.delay, rho2, omega);
+      refresh.push_back(j % spec_.hessian_interval == 0 && !(j == 0 && diagonal_fresh) ? 1 : 0);
+      alphas.push_back(static_cast<Real>(schedule.alpha));
+      omegas.push_back(omega);
+      ++chebyshev_k;
     }
-    std::swap(q_prev_, q_);
-    std::swap(q_, q_next_);
-    ++chebyshev_k;
-    stats.iterations = k + 1;
-    this->observe(k + 1, q_.data(), y_.data(), qt_.data());
+    {
+      ScopedTimer timer{iterate_seconds_};
+      engine_->iterate(end - k, refresh.data(), alphas.data(), omegas.data());
+      engine_->synchronize();
+    }
+    k = end;
+    stats.iterations = k;
+    if (observed) {
+      engine_->download(false);
+      this->observe(k, q_, y_, qt_);
+    }
+    if (k != check_at) continue;
 
-    const bool last = k + 1 == spec_.iterations;
-    if ((k + 1) % spec_.check_interval != 0 && !last) continue;
-    const Energy local[2] = {problem_.local_energy(q_.data(), y_.data(), qt_.data()),
-                             check.reevaluate()
-                                 ? problem_.local_energy(q_checked_.data(), y_.data(), qt_.data())
-                                 : initial_local_energy};
-    if (check.accept<Real>(problem_.global_energies(local, check.count()), stats)) {
-      q_checked_ = q_;
+    ScopedTimer check_timer{check_seconds_};
+    const Energy local[2] = {engine_->local_energy(false),
+                             reevaluate ? engine_->local_energy(true) : initial_local_energy};
+    const EnergySums sums = problem_.global_energies(local, check.count());
+    // A rise the Chebyshev bound allows since the (re)start is no sign of
+    // divergence: its error oscillates between checks.
+    const double allowed_rise = schedule.automatic && !history.empty()
+                                    ? chebyshev_error_bound(schedule.phi, chebyshev_k) *
+                                          (history.restart_energy() - check.checked_energy())
+                                    : 0.0;
+    const EnergyCheck::Verdict verdict = check.judge<Real>(sums, stats, allowed_rise);
+    if (history.empty()) history.restart(stats.initial_energy);
+    if (verdict == EnergyCheck::Verdict::accepted) {
+      engine_->accept();
+      best_is_current = true;
+      history.record(chebyshev_k, check.checked_energy());
+      if (schedule.phi > 0) {
+        stats.error_estimate = history.relative_error(stats.initial_energy, schedule.phi);
+        const double e = stats.error_estimate;
+        if (target > 0 && e <= kConfidentShare * target) break;
+        if (target > 0 && e <= kTargetShare * target && chebyshev_k >= prior_iterations) break;
+      }
+      continue;
+    }
+    if (verdict == EnergyCheck::Verdict::tolerated) {
+      best_is_current = false;
       continue;
     }
     // The energy rose (or is not finite): back to the checked state, shorter
     // step. Only the rank whose own terms were not finite looks for the culprit.
-    if (!stats.rejected_at.found() && !finite(local[0]))
-      stats.rejected_at = problem_.find_non_finite(q_.data(), y_.data(), qt_.data());
-    q_ = q_checked_;
-    q_prev_ = q_checked_;
+    if (!stats.rejected_at.found() && !finite(local[0])) {
+      engine_->download(false);
+      stats.rejected_at = problem_.find_non_finite(q_, y_, qt_);
+    }
+    engine_->rollback();
+    best_is_current = true;
     chebyshev_k = 0;
     ++stats.rollbacks;
-    alpha_ *= spec_.gamma;
-    if (alpha_ < spec_.alpha_min) {
+    if (schedule.automatic) {
+      // The spectrum reaches above b here (or the step is too long for the
+      // energy's curvature): widen, and estimate anew next step.
+      schedule.set_bounds(schedule.lower, schedule.upper / spec_.gamma);
+      memory_.reestimate = true;
+      prior_iterations = target > 0 ? bound_iterations() : 0;
+    } else {
+      memory_.alpha *= spec_.gamma;
+      schedule.alpha = memory_.alpha;
+    }
+    history.restart(check.checked_energy());
+    if (schedule.alpha < spec_.alpha_min) {
       stats.stalled = true;
       break;
     }
   }
 
+  stats.alpha = schedule.alpha;
+  stats.rho = schedule.rho;
+  stats.lambda_min = schedule.lower;
+  stats.lambda_max = schedule.upper;
+  stats.energy = check.checked_energy();
+  if (schedule.automatic) memory_.alpha = schedule.alpha;
+  if (reevaluate) {
+    interpolants_.resize(problem_.interpolants().size());
+    engine_->download_interpolants(interpolants_.data());
+    problem_.set_interpolants(interpolants_);
+  }
   // No state with finite energy was reached (e.g. the initial guess was not
-  // finite and no trial was either): the body keeps the step's start, the last
-  // good state, and the caller stops the run. Every rank knows it from the
-  // reduction; each names what it holds that is not finite.
+  // finite and no trial was either): the body keeps the step's start, the
+  // last good state, and the caller stops the run. Every rank knows it from
+  // the reduction; each names what it holds that is not finite.
   if (!check.checked_finite()) {
     stats.finite = false;
-    stats.failed_at = problem_.find_non_finite(q_checked_.data(), y_.data(), qt_.data());
-    stats.alpha = alpha_;
-    stats.energy = check.checked_energy();
+    engine_->download(true);
+    stats.failed_at = problem_.find_non_finite(q_, y_, qt_);
     return stats;
   }
-
-  commit_step(q_.data(), qt_.data(), problem_.dt(), t_next, state);
-  stats.alpha = alpha_;
-  stats.energy = check.checked_energy();
+  // The step's result is the best checked state: the current iterate unless
+  // the last check tolerated a rise.
+  engine_->download(!best_is_current);
+  commit_step(q_, qt_, problem_.dt(), t_next, state);
   return stats;
 }
 

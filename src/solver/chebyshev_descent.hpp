@@ -1,14 +1,34 @@
 #pragma once
-// The paper's method (paper 1, Algorithm 1; DESIGN §1): Jacobi-preconditioned
-// descent with Chebyshev acceleration, the Hessian diagonal re-evaluated every
-// M iterations, and step-length control by the total energy every
-// check_interval iterations: if the energy rose since the last check, roll
-// back to the checked state, alpha <- gamma alpha, restart Chebyshev; end the
-// step once alpha < alpha_min. Each step starts from alpha_prev / gamma
-// (capped at alpha_max). The energy check is the only collective.
+// The paper's method (paper 1, Algorithm 1; DESIGN §1), the one Chebyshev
+// stepper of every backend: Jacobi-preconditioned descent with Chebyshev
+// acceleration, the Hessian diagonal re-evaluated every M iterations, and
+// step-length control by the total energy every check_interval iterations.
+// The iterates live in an IterationEngine (the host's or a device's); this
+// class keeps the step control on the host and only launches between
+// checks. The energy check is the only collective of the iterations.
+//
+// Parameters (solver.chebyshev_parameters):
+//   fixed: rho, chebyshev_delay, phases and alpha_max as given; if the
+//     energy rose since the last check, roll back to the checked state,
+//     alpha <- gamma alpha, restart Chebyshev; each step starts from
+//     alpha_prev / gamma capped at alpha_max (the paper's control).
+//   auto: [a, b] bounds the spectrum of D^-1 H (solver/spectrum.hpp),
+//     estimated by Lanczos at the step's initial guess and reused for
+//     solver.spectrum_interval steps; alpha = 2 / (a + b), rho = (b - a) /
+//     (b + a), the semi-iterative method from the first iteration. A rise
+//     the Chebyshev bound allows (its error is not monotone) is passed
+//     through, keeping the best checked state; a larger rise or a
+//     non-finite energy rolls back to it with b <- b / gamma, and the next
+//     step estimates anew.
+// With solver.accuracy the step ends at the first check where the energy
+// decrease says the relative error is below the target and the Chebyshev
+// bound agrees (or the decrease alone says it is far below), within
+// solver.iterations.
+#include <memory>
 #include <vector>
 
 #include "io/scene.hpp"
+#include "solver/iteration_engine.hpp"
 #include "solver/local_problem.hpp"
 #include "solver/stepper.hpp"
 
@@ -17,24 +37,53 @@ namespace descent {
 template <class Real>
 class ChebyshevDescent final : public Stepper<Real> {
  public:
-  ChebyshevDescent(LocalProblem<Real>& problem, const SolverSpec& spec);
+  ChebyshevDescent(LocalProblem<Real>& problem, const SolverSpec& spec,
+                   std::unique_ptr<IterationEngine<Real>> engine);
   StepStats step(BodyState<Real>& state) override;
 
-  // The step length carried from step to step (part of a checkpoint).
-  double alpha() const override { return alpha_; }
-  void set_alpha(double alpha) override { alpha_ = alpha; }
+  StepMemory memory() const override { return memory_; }
+  void set_memory(const StepMemory& memory) override { memory_ = memory; }
 
   // LocalProblem::local_region_sums at the end of the last step (the
   // reaction is the gradient of that step's potential).
   std::vector<double> local_region_sums() override {
-    return problem_.local_region_sums(q_.data(), y_.data(), qt_.data());
+    return problem_.local_region_sums(q_, y_, qt_);
   }
 
+  const IterationEngine<Real>& engine() const { return *engine_; }
+  IterationEngine<Real>& engine() { return *engine_; }
+
+  // Wall time of all steps so far: iterating (launch to completion), the
+  // energy checks (reduction, allreduce, accept or roll back) and the
+  // spectrum estimates.
+  double iterate_seconds() const { return iterate_seconds_; }
+  double check_seconds() const { return check_seconds_; }
+  double estimate_seconds() const { return estimate_seconds_; }
+  int estimates() const { return estimates_; }
+
  private:
+  // Estimates the spectrum when the memory says it is due (first step, after
+  // a rollback, every spectrum_interval steps). True when it did: the
+  // engine's diagonal is then fresh at the initial guess.
+  bool prepare_spectrum(const BodyState<Real>& state, StepStats& stats);
+  // The Lanczos start vector into the engine's staging: the velocity (the
+  // motion the step continues, rich in the slow modes), else the
+  // acceleration of gravity and loads, plus a little deterministic noise by
+  // global id so that every mode is present. One allreduce.
+  void stage_start_vector(const BodyState<Real>& state);
+
   LocalProblem<Real>& problem_;
   SolverSpec spec_;
-  double alpha_;
-  std::vector<Real> y_, qt_, q_, q_prev_, q_checked_, q_next_, diag_;
+  StepMemory memory_;
+  std::unique_ptr<IterationEngine<Real>> engine_;
+  // The engine's host buffers, 3 per local vertex: the step's inertial
+  // target and start positions, and the iterate (initial guess going in,
+  // result coming out).
+  Real *y_, *qt_, *q_;
+  bool force_on_engine_nonzero_ = true;  // until the first upload says otherwise
+  std::vector<Real> interpolants_;
+  double iterate_seconds_ = 0, check_seconds_ = 0, estimate_seconds_ = 0;
+  int estimates_ = 0;
 };
 
 }  // namespace descent

@@ -4,7 +4,8 @@
 #include <variant>
 
 #include "common/error.hpp"
-#include "kernels/cpu/element_loops.hpp"
+#include "kernels/cpu/host_exec.hpp"
+#include "kernels/loops.hpp"
 #include "solver/loads.hpp"
 
 namespace descent {
@@ -65,8 +66,9 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
     for (int k = 0; k < 12; ++k) corner_mass[12 * static_cast<std::size_t>(t) + k] = m;
   }
   std::vector<Real> mass3(3 * static_cast<std::size_t>(nv));
-  cpu::gather_corners(mesh.corner_offsets.data(), mesh.vertex_corners.data(), 0, nv,
-                      corner_mass.data(), mass3.data(), 3);
+  HostExec host;
+  loops::gather_corners(host, 0, mesh.corner_offsets.data(), mesh.vertex_corners.data(), 0, nv,
+                        corner_mass.data(), mass3.data(), 3, 0);
   halo_.sum(mass3.data(), 3);
   mass_.resize(nv);
   for (index_t v = 0; v < nv; ++v) mass_[v] = mass3[3 * static_cast<std::size_t>(v)];
@@ -117,16 +119,20 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
 
 template <class Real>
 void LocalProblem<Real>::element_pass(const Real* q, index_t begin, index_t end,
-                                      Real* diag_corners) {
+                                      bool with_diagonal) {
+  HostExec host;
+  const loops::ElementOut<Real> out{corner_grad_.data(),
+                                    with_diagonal ? corner_diag_.data() : nullptr, nullptr, 3};
   std::visit(
       [&](const auto& model) {
         if (converting_)
-          cpu::converted_element_gradients(model, conversion_, interpolant_.data(), q,
-                                           mesh_.tets.data(), rest_.data(), begin, end,
-                                           corner_grad_.data(), diag_corners);
+          loops::element_pass<true>(host, 0, model, conversion_, interpolant_.data(), q,
+                                    mesh_.tets.data(), rest_.data(), begin, end, with_diagonal,
+                                    out);
         else
-          cpu::element_gradients(model, q, mesh_.tets.data(), rest_.data(), begin, end,
-                                 corner_grad_.data(), diag_corners);
+          loops::element_pass<false>(host, 0, model, conversion_, interpolant_.data(), q,
+                                     mesh_.tets.data(), rest_.data(), begin, end, with_diagonal,
+                                     out);
       },
       model_);
 }
@@ -195,21 +201,24 @@ typename LocalProblem<Real>::Assembled LocalProblem<Real>::elastic_gradient(cons
   const index_t ni = mesh_.num_interior, nv = mesh_.num_vertices();
   const index_t* offsets = mesh_.corner_offsets.data();
   const index_t* corners = mesh_.vertex_corners.data();
-  Real* diag_corners = with_diagonal ? corner_diag_.data() : nullptr;
   const int width = with_diagonal ? 6 : 3;
   Real* partial = partial_.data();
+  HostExec host;
+  auto gather = [&](index_t begin, index_t end) {
+    loops::gather_corners(host, 0, offsets, corners, begin, end, corner_grad_.data(), partial,
+                          width, 0);
+    if (with_diagonal)
+      loops::gather_corners(host, 0, offsets, corners, begin, end, corner_diag_.data(), partial,
+                            width, 3);
+  };
 
   // Boundary tets, then their (shared) vertices, then the exchange in flight
   // while the interior is computed.
-  element_pass(q, 0, nb, diag_corners);
-  cpu::gather_corners(offsets, corners, ni, nv, corner_grad_.data(), partial, width);
-  if (with_diagonal)
-    cpu::gather_corners(offsets, corners, ni, nv, corner_diag_.data(), partial + 3, width);
+  element_pass(q, 0, nb, with_diagonal);
+  gather(ni, nv);
   halo_.begin(partial, width);
-  element_pass(q, nb, nt, diag_corners);
-  cpu::gather_corners(offsets, corners, 0, ni, corner_grad_.data(), partial, width);
-  if (with_diagonal)
-    cpu::gather_corners(offsets, corners, 0, ni, corner_diag_.data(), partial + 3, width);
+  element_pass(q, nb, nt, with_diagonal);
+  gather(0, ni);
   halo_.finish(partial, width);
 
   return {partial, width};
@@ -217,35 +226,29 @@ typename LocalProblem<Real>::Assembled LocalProblem<Real>::elastic_gradient(cons
 
 template <class Real>
 void LocalProblem<Real>::assemble_corners(const Real* corner_values, Real* out) {
-  cpu::gather_corners(mesh_.corner_offsets.data(), mesh_.vertex_corners.data(), 0,
-                      mesh_.num_vertices(), corner_values, out, 3);
+  HostExec host;
+  loops::gather_corners(host, 0, mesh_.corner_offsets.data(), mesh_.vertex_corners.data(), 0,
+                        mesh_.num_vertices(), corner_values, out, 3, 0);
   halo_.sum(out, 3);
 }
 
 template <class Real>
 Energy LocalProblem<Real>::local_energy(const Real* q, const Real* y, const Real* qt) const {
-  const index_t nt = mesh_.num_tets();
-  const cpu::EnergySum elastic = std::visit(
+  HostExec host;
+  const loops::VertexData<Real> vd{
+      mass_.data(), fixed_.data(), diagonal_floor_.data(), external_force_.data(), y, qt, terms_};
+  const Sum2 s = std::visit(
       [&](const auto& model) {
         return converting_
-                   ? cpu::converted_element_energy_sum(model, conversion_, interpolant_.data(), q,
-                                                       mesh_.tets.data(), rest_.data(), 0, nt)
-                   : cpu::element_energy_sum(model, q, mesh_.tets.data(), rest_.data(), 0, nt);
+                   ? loops::local_energy<true>(host, 0, model, conversion_, interpolant_.data(), q,
+                                               mesh_.tets.data(), rest_.data(), mesh_.num_tets(),
+                                               vd, mesh_.num_owned)
+                   : loops::local_energy<false>(host, 0, model, conversion_, interpolant_.data(), q,
+                                                mesh_.tets.data(), rest_.data(), mesh_.num_tets(),
+                                                vd, mesh_.num_owned);
       },
       model_);
-  const index_t owned = mesh_.num_owned;
-  double value = 0, magnitude = 0;
-#pragma omp parallel for schedule(static) reduction(+ : value, magnitude)
-  for (index_t v = 0; v < owned; ++v) {
-    for (int i = 0; i < 3; ++i) {
-      const std::size_t k = 3 * static_cast<std::size_t>(v) + i;
-      const double term = dof_energy(terms_, mass_[v], q[k], y[k], qt[k], external_force_[k], i);
-      value += term;
-      magnitude += std::abs(term);
-    }
-  }
-  Energy e{elastic.value + value, elastic.magnitude + magnitude};
-  return e;
+  return {s.value, s.magnitude};
 }
 
 template class LocalProblem<double>;

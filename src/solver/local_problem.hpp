@@ -31,6 +31,9 @@ class LocalProblem {
 
   index_t num_vertices() const { return mesh_.num_vertices(); }
   const LocalMesh& mesh() const { return mesh_; }
+  // The rank's exchange of shared-vertex partial sums (for an iteration
+  // engine, which assembles its own).
+  Halo<Real>& halo() { return halo_; }
   Real dt() const { return dt_; }
 
   // Lumped mass per local vertex (sum over all ranks' tets, bitwise equal on
@@ -112,9 +115,10 @@ class LocalProblem {
   const LocalMesh& mesh_;
   Halo<Real>& halo_;
   EnergyReduction& reduction_;
-  // Runs the element pass (gradient, and the diagonal into diag_corners when
-  // not null) over tets [begin, end) with the scene's model and conversion.
-  void element_pass(const Real* q, index_t begin, index_t end, Real* diag_corners);
+  // Runs the element pass (gradient into corner_grad_, and the diagonal into
+  // corner_diag_ when with_diagonal) over tets [begin, end) with the scene's
+  // model and conversion.
+  void element_pass(const Real* q, index_t begin, index_t end, bool with_diagonal);
 
   ElasticModel<Real> model_;
   bool converting_ = false;

@@ -13,7 +13,9 @@ namespace descent {
 
 template <class Real>
 std::unique_ptr<Stepper<Real>> make_stepper(LocalProblem<Real>& problem, const SolverSpec& spec) {
-  if (spec.method == "chebyshev") return std::make_unique<ChebyshevDescent<Real>>(problem, spec);
+  if (spec.method == "chebyshev")
+    return std::make_unique<ChebyshevDescent<Real>>(
+        problem, spec, make_host_engine(problem, problem.halo(), EngineOptions{}));
   if (spec.method == "gd") return std::make_unique<GradientDescent<Real>>(problem, spec, false);
   if (spec.method == "jacobi_gd")
     return std::make_unique<GradientDescent<Real>>(problem, spec, true);

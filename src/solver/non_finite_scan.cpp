@@ -6,7 +6,7 @@
 #include <utility>
 #include <variant>
 
-#include "kernels/cpu/element_loops.hpp"
+#include "kernels/loops.hpp"
 #include "solver/local_problem.hpp"
 
 namespace descent {
@@ -50,7 +50,7 @@ NonFiniteSite LocalProblem<Real>::find_non_finite(const Real* q, const Real* y,
   std::visit(
       [&](const auto& model) {
         for (index_t t = 0; t < nt && !site.found(); ++t) {
-          const TetCorners<Real> c = cpu::load_corners(q, &mesh_.tets[4 * std::size_t(t)]);
+          const TetCorners<Real> c = loops::tet_corners(q, &mesh_.tets[4 * std::size_t(t)]);
           const double e = converting_
                                ? converted_energy(model, conversion_, interpolant_[t], rest_[t], c)
                                : element_energy(model, rest_[t], c);

@@ -76,12 +76,20 @@ class EnergyCheck {
   // when it is summed (the first check, or every check with reevaluate).
   int count() const { return first_ || reevaluate_ ? 2 : 1; }
 
+  // What a check makes of a trial state.
+  enum class Verdict {
+    accepted,   // no rise: the trial becomes the checked state
+    tolerated,  // a rise within `allowed_rise`: the iteration goes on, the
+                // checked state stays the best one
+    rejected,   // a larger rise or a non-finite energy: roll back
+  };
+
   // Judges the trial from the reduced sums of count() energies (trial first)
-  // and records the check in `stats`. True: accepted, the trial becomes the
-  // checked state. False: the caller rolls back (a non-finite trial is
-  // counted in stats.nonfinite_rollbacks).
+  // and records the check in `stats`; a non-finite trial is counted in
+  // stats.nonfinite_rollbacks. A rise up to `allowed_rise` above the checked
+  // energy is tolerated (0: every rise beyond round-off is rejected).
   template <class Real>
-  bool accept(const EnergySums& sums, StepStats& stats) {
+  Verdict judge(const EnergySums& sums, StepStats& stats, double allowed_rise = 0) {
     if (count() == 2) {
       checked_energy_ = sums.energy[1].value;
       checked_finite_ = sums.finite[1];
@@ -95,14 +103,23 @@ class EnergyCheck {
     // for nothing.
     const double tolerance = energy_roundoff<Real>(sums.energy[0].magnitude);
     stats.energy_tolerance = tolerance;
-    if (sums.finite[0] &&
-        (!checked_finite_ || sums.energy[0].value <= checked_energy_ + tolerance)) {
+    if (!sums.finite[0]) {
+      ++stats.nonfinite_rollbacks;
+      return Verdict::rejected;
+    }
+    if (!checked_finite_ || sums.energy[0].value <= checked_energy_ + tolerance) {
       checked_energy_ = sums.energy[0].value;
       checked_finite_ = true;
-      return true;
+      return Verdict::accepted;
     }
-    if (!sums.finite[0]) ++stats.nonfinite_rollbacks;
-    return false;
+    return sums.energy[0].value <= checked_energy_ + tolerance + allowed_rise ? Verdict::tolerated
+                                                                              : Verdict::rejected;
+  }
+
+  // judge() without tolerated rises: true when the trial is accepted.
+  template <class Real>
+  bool accept(const EnergySums& sums, StepStats& stats) {
+    return judge<Real>(sums, stats) == Verdict::accepted;
   }
 
   double checked_energy() const { return checked_energy_; }

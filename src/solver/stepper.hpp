@@ -77,6 +77,28 @@ struct StepStats {
   // state, and the retry from the step start q_t (always finite: the last
   // accepted state) succeeded or failed in its place (Simulation::step).
   bool retried_from_start = false;
+
+  // Chebyshev (0 for other methods): the bounds of the spectrum of D^-1 H
+  // the step used (the automatic parameters' estimate, widened by any
+  // rollback; with fixed parameters 0) and the rho of its last iteration.
+  double lambda_min = 0, lambda_max = 0, rho = 0;
+  int spectrum_steps = 0;  // Lanczos steps this step spent estimating them (0: reused)
+  // The relative error of eps the step's last check estimates it left
+  // (solver.accuracy; NaN when the checks gave no estimate).
+  double error_estimate = 0;
+};
+
+// What a method carries from one step to the next: part of a checkpoint, so
+// a restart continues bit for bit, and what `descent study` hands from its
+// warm-up to every case.
+struct StepMemory {
+  double alpha = 0;  // step length (methods without one: 0)
+  // Automatic Chebyshev: the spectrum bounds it reuses (0: none yet), the
+  // steps since they were estimated, and whether the next step must
+  // estimate them anew (the last one rolled back).
+  double lambda_min = 0, lambda_max = 0;
+  int steps_since_estimate = 0;
+  bool reestimate = false;
 };
 
 template <class Real>
@@ -85,10 +107,9 @@ class Stepper {
   virtual ~Stepper() = default;
   virtual StepStats step(BodyState<Real>& state) = 0;
 
-  // The step length carried from step to step (part of a checkpoint);
-  // methods without one keep 0.
-  virtual double alpha() const { return 0; }
-  virtual void set_alpha(double) {}
+  // What the method carries from step to step (part of a checkpoint).
+  virtual StepMemory memory() const { return {}; }
+  virtual void set_memory(const StepMemory&) {}
 
   // LocalProblem::local_region_sums at the end of the last step.
   virtual std::vector<double> local_region_sums() = 0;

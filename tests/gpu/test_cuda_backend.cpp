@@ -7,15 +7,17 @@
 //     is printed);
 //   - P ranks sharing the visible devices agree with 1 rank, and shared
 //     vertices are bitwise equal on all sharers;
-//   - the iterations between checks are replayed as graphs on one rank.
+//   - the iterations between checks are replayed as graphs on one rank;
+//   - the automatic parameters' spectrum estimate (Lanczos on the device)
+//     equals the host engine's to round-off.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
 #include <cstdio>
 
 #include "app/scene_mesh.hpp"
-#include "backends/device_chebyshev.hpp"
 #include "common/error.hpp"
+#include "solver/chebyshev_descent.hpp"
 #include "tests/backends/compare_runs.hpp"
 #include "tests/mpi/small_scenes.hpp"
 
@@ -132,16 +134,42 @@ TEST(CudaBackend, MoreRanksThanDevicesNeedSharing) {
   EXPECT_THROW(choose_backend(MPI_COMM_WORLD, request, nullptr), InputError);
 }
 
+// The first step's estimate of the spectrum of D^-1 H, CUDA against the
+// host engine on the same ranks (the Lanczos sums differ only in order).
+template <class Real>
+void expect_same_estimate(double tolerance) {
+  const Scene scene = testing::small_helix_scene();
+  const Mesh mesh = build_scene_mesh(scene.mesh);
+  Simulation<Real> cpu(MPI_COMM_WORLD, scene, mesh, backend_of(BackendKind::cpu));
+  Simulation<Real> gpu(MPI_COMM_WORLD, scene, mesh, cuda_backend(Assembly::gather));
+  const StepStats c = cpu.step(), g = gpu.step();
+  ASSERT_GT(c.spectrum_steps, 0);
+  EXPECT_EQ(c.spectrum_steps, g.spectrum_steps);
+  EXPECT_NEAR(g.lambda_max, c.lambda_max, tolerance * c.lambda_max);
+  EXPECT_NEAR(g.lambda_min, c.lambda_min, 100 * tolerance * c.lambda_max);
+  if (world_rank() == 0)
+    std::printf(
+        "[ gpu spectrum ] %s: lambda [%.6g, %.6g] on the device, [%.6g, %.6g] on the host\n",
+        sizeof(Real) == 4 ? "float" : "double", g.lambda_min, g.lambda_max, c.lambda_min,
+        c.lambda_max);
+}
+
+TEST(CudaBackend, SpectrumEstimateMatchesCpu) {
+  DESCENT_REQUIRE_DEVICE();
+  expect_same_estimate<double>(1e-9);
+  expect_same_estimate<float>(1e-3);
+}
+
 TEST(CudaBackend, OneRankReplaysGraphs) {
   DESCENT_REQUIRE_DEVICE();
   if (world_rank() != 0) return;
-  const Scene scene = testing::small_helix_scene();
+  const Scene scene = testing::fixed_chebyshev(testing::small_helix_scene());
   const Mesh mesh = build_scene_mesh(scene.mesh);
   BackendChoice backend = backend_of(BackendKind::cuda);
   Simulation<double> sim(MPI_COMM_SELF, scene, mesh, backend);
   sim.step();
   sim.step();
-  const auto& device = dynamic_cast<const DeviceChebyshev<double>&>(sim.stepper());
+  const auto& device = dynamic_cast<const ChebyshevDescent<double>&>(sim.stepper());
   // 96 iterations in blocks of 8 between checks: 12 blocks per step.
   EXPECT_EQ(device.engine().graph_launches(), 2 * 12);
   const std::string report = sim.device_memory_report();

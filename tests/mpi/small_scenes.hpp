@@ -24,4 +24,15 @@ inline Scene small_helix_scene() {
   return scene;
 }
 
+// `scene` with the paper's fixed Chebyshev parameters set explicitly (rho
+// 0.96, 10 plain iterations, alpha_max 1): the method before the automatic
+// parameters, whose collectives and behaviour some tests pin down.
+inline Scene fixed_chebyshev(Scene scene) {
+  scene.solver.chebyshev_parameters = "fixed";
+  scene.solver.rho = 0.96;
+  scene.solver.chebyshev_delay = 10;
+  scene.solver.alpha_max = 1.0;
+  return scene;
+}
+
 }  // namespace descent::testing

@@ -108,7 +108,12 @@ TEST(Scene, EveryOtherKeyDefaultsToTheStructDefaults) {
   EXPECT_EQ(scene.time.frames, defaults.time.frames);
   EXPECT_EQ(scene.time.quasistatic, defaults.time.quasistatic);
   EXPECT_EQ(scene.solver.method, defaults.solver.method);
+  EXPECT_EQ(scene.solver.chebyshev_parameters, "auto");
   EXPECT_EQ(scene.solver.iterations, defaults.solver.iterations);
+  EXPECT_EQ(scene.solver.accuracy, 0.0);
+  EXPECT_EQ(scene.solver.spectrum_steps, defaults.solver.spectrum_steps);
+  EXPECT_EQ(scene.solver.spectrum_interval, defaults.solver.spectrum_interval);
+  EXPECT_EQ(scene.solver.spectrum_margin, defaults.solver.spectrum_margin);
   EXPECT_EQ(scene.solver.rho, defaults.solver.rho);
   EXPECT_EQ(scene.solver.chebyshev_delay, defaults.solver.chebyshev_delay);
   EXPECT_EQ(scene.solver.hessian_interval, defaults.solver.hessian_interval);
@@ -564,7 +569,13 @@ TEST(Scene, RangesNameTheKeyAndTheLine) {
       {"[solver]\niterations = 0", "scene.toml:4: solver.iterations must be >= 1, got 0"},
       {"[solver]\nrho = 1.0", "solver.rho must be in [0, 1), got 1"},
       {"[solver]\nrho = -0.1", "solver.rho must be in [0, 1), got -0.1"},
-      {"[solver]\nchebyshev_delay = -1", "solver.chebyshev_delay must be >= 0, got -1"},
+      {"[solver]\nchebyshev_parameters = \"fixed\"\nchebyshev_delay = -1",
+       "solver.chebyshev_delay must be >= 0, got -1"},
+      {"[solver]\naccuracy = 1", "scene.toml:4: solver.accuracy must be in [0, 1)"},
+      {"[solver]\naccuracy = -1e-3", "solver.accuracy must be in [0, 1)"},
+      {"[solver]\nspectrum_steps = 1", "solver.spectrum_steps must be in [2, 1000], got 1"},
+      {"[solver]\nspectrum_interval = -1", "solver.spectrum_interval must be >= 0"},
+      {"[solver]\nspectrum_margin = -0.1", "solver.spectrum_margin must be in [0, 10]"},
       {"[solver]\nhessian_interval = 0", "solver.hessian_interval must be >= 1, got 0"},
       {"[solver]\ncheck_interval = 0", "solver.check_interval must be >= 1, got 0"},
       {"[solver]\ngamma = 1", "solver.gamma must be in (0, 1), got 1"},
@@ -657,6 +668,47 @@ TEST(Scene, MethodKeysAreChecked) {
       "scene.toml");
   EXPECT_EQ(phases.solver.phase_rho, (std::vector<double>{0.9, 0.99}));
   EXPECT_EQ(phases.solver.phase_lengths, (std::vector<int>{24}));
+}
+
+// Automatic Chebyshev parameters unless the scene sets a fixed one; a fixed
+// key beside an explicit "auto" names the key, and so does chebyshev_delay
+// without fixed parameters.
+TEST(Scene, ChebyshevParametersFollowTheKeysSet) {
+  EXPECT_EQ(parse(kBoxScene).solver.chebyshev_parameters, "auto");
+  for (const char* key : {"rho = 0.99", "alpha_max = 0.8", "phase_rho = [0.99]"}) {
+    SCOPED_TRACE(key);
+    const Scene fixed = parse(std::string(kBoxScene) + "[solver]\n" + key + "\n");
+    EXPECT_EQ(fixed.solver.chebyshev_parameters, "fixed");
+  }
+  const Scene said = parse(std::string(kBoxScene) + "[solver]\nchebyshev_parameters = \"fixed\"\n");
+  EXPECT_EQ(said.solver.chebyshev_parameters, "fixed");
+  expect_has(error_of(std::string(kBoxScene) +
+                      "[solver]\nchebyshev_parameters = \"auto\"\nalpha_max = 0.5\n"),
+             "scene.toml:5: solver.alpha_max is a fixed Chebyshev parameter, but "
+             "solver.chebyshev_parameters = \"auto\" (scene.toml:4)");
+  // An override's "auto" wins over the file's fixed keys (a study case).
+  const Scene overridden =
+      parse_scene(std::string(kBoxScene) + "[solver]\nrho = 0.9\nchebyshev_delay = 4\n",
+                  "scene.toml", {"solver.chebyshev_parameters=\"auto\""});
+  EXPECT_EQ(overridden.solver.chebyshev_parameters, "auto");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nchebyshev_delay = 3\n"),
+             "scene.toml:4: solver.chebyshev_delay applies to fixed Chebyshev parameters");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nchebyshev_parameters = \"tuned\"\n"),
+             "solver.chebyshev_parameters must be one of \"auto\", \"fixed\"");
+  expect_has(error_of(std::string(kBoxScene) + "[solver]\nmethod = \"ncg\"\naccuracy = 0.01\n"),
+             "scene.toml:5: solver.accuracy chooses the iteration count of solver.method = "
+             "chebyshev, not of ncg");
+  expect_has(error_of(std::string(kBoxScene) +
+                      "[solver]\naccuracy = 0.01\nphase_rho = [0.9, 0.99]\nphase_lengths = [8]\n"),
+             "solver.accuracy counts iterations by one Chebyshev bound");
+  const Scene target = parse(std::string(kBoxScene) +
+                             "[solver]\naccuracy = 1e-3\n"
+                             "spectrum_steps = 30\nspectrum_interval = 0\n"
+                             "spectrum_margin = 0.2\n");
+  EXPECT_EQ(target.solver.accuracy, 1e-3);
+  EXPECT_EQ(target.solver.spectrum_steps, 30);
+  EXPECT_EQ(target.solver.spectrum_interval, 0);
+  EXPECT_EQ(target.solver.spectrum_margin, 0.2);
 }
 
 TEST(Scene, ChoicesListTheValidNames) {

@@ -1,7 +1,7 @@
 #pragma once
-// The CUDA execution of the device stepper: the interface of
-// backends/exec_host.hpp on one device, two streams (0: main, 1: side) and
-// a few events, with captured graphs replayed by key. nvcc only.
+// The CUDA execution (kernels/execution.hpp): the interface on one device,
+// two streams (0: main, 1: side) and a few events, with captured graphs
+// replayed by key. nvcc only.
 //
 // Launch shape: one thread per index, 256 per block. Reductions are
 // deterministic: a fixed grid of per-block partial sums in double, then one
@@ -11,8 +11,9 @@
 #include <map>
 #include <string>
 
-#include "backends/exec_host.hpp"
+#include "common/mesh.hpp"
 #include "kernels/cuda/cuda_check.hpp"
+#include "kernels/execution.hpp"
 
 namespace descent {
 
@@ -63,6 +64,7 @@ __global__ void __launch_bounds__(kReduceBlocks)
 class CudaExec {
  public:
   static constexpr bool kAsync = true;
+  static constexpr bool kHostMemory = false;
 
   explicit CudaExec(int device);
   ~CudaExec();

@@ -2,9 +2,9 @@
 
 #include <variant>
 
-#include "kernels/cpu/element_loops.hpp"
+#include "kernels/cpu/host_exec.hpp"
 #include "kernels/element_hessian.hpp"
-#include "kernels/element_hessian_product.hpp"
+#include "kernels/loops.hpp"
 #include "kernels/vertex.hpp"
 
 namespace descent {
@@ -35,23 +35,17 @@ void HessianOperator<Real>::finish(const Real* p, Real* out) const {
 
 template <class Real>
 void HessianOperator<Real>::product(const Real* q, const Real* p, Real* out) {
-  const index_t nt = problem_.mesh().num_tets();
-  const index_t* tets = problem_.mesh().tets.data();
-  const TetRest<Real>* rest = problem_.rest().data();
-  Real* corners = corners_.data();
+  HostExec host;
+  const LocalMesh& mesh = problem_.mesh();
+  const loops::ElementOut<Real> corners{corners_.data(), nullptr, nullptr, 3};
   std::visit(
       [&](const auto& model) {
-#pragma omp parallel for schedule(static)
-        for (index_t t = 0; t < nt; ++t) {
-          const TetCorners<Real> x = cpu::load_corners(q, &tets[4 * t]);
-          const TetCorners<Real> pc = cpu::load_corners(p, &tets[4 * t]);
-          Vec3<Real> hp[4];
-          element_hessian_product(model, rest[t], x, pc.x, hp);
-          cpu::store_corners(hp, &corners[12 * static_cast<std::size_t>(t)]);
-        }
+        loops::hessian_product_pass<false>(
+            host, 0, model, problem_.conversion(), static_cast<const Real*>(nullptr), q, p,
+            mesh.tets.data(), problem_.rest().data(), 0, mesh.num_tets(), corners);
       },
       problem_.model());
-  problem_.assemble_corners(corners, out);
+  problem_.assemble_corners(corners_.data(), out);
   finish(p, out);
 }
 
@@ -67,7 +61,7 @@ void HessianOperator<Real>::assemble(const Real* q, bool project) {
       [&](const auto& model) {
 #pragma omp parallel for schedule(static)
         for (index_t t = 0; t < nt; ++t) {
-          const TetCorners<Real> x = cpu::load_corners(q, &tets[4 * t]);
+          const TetCorners<Real> x = loops::tet_corners(q, tets, t);
           Real* ht = &h[144 * static_cast<std::size_t>(t)];
           if (project)
             element_hessian_psd(model, rest[t], x, ht);
@@ -92,7 +86,7 @@ void HessianOperator<Real>::apply(const Real* p, Real* out) {
   Real* corners = corners_.data();
 #pragma omp parallel for schedule(static)
   for (index_t t = 0; t < nt; ++t) {
-    const TetCorners<Real> pc = cpu::load_corners(p, &tets[4 * t]);
+    const TetCorners<Real> pc = loops::tet_corners(p, tets, t);
     const Real v[12] = {pc.x[0].x, pc.x[0].y, pc.x[0].z, pc.x[1].x, pc.x[1].y, pc.x[1].z,
                         pc.x[2].x, pc.x[2].y, pc.x[2].z, pc.x[3].x, pc.x[3].y, pc.x[3].z};
     const Real* ht = &h[144 * static_cast<std::size_t>(t)];

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "kernels/corotated_linear.hpp"
-#include "kernels/cpu/element_loops.hpp"
+#include "kernels/loops.hpp"
 
 namespace descent {
 
@@ -47,7 +47,7 @@ void LinearCg<Real>::prepare_elements() {
   // after the force is assembled.
 #pragma omp parallel for schedule(static) reduction(max : most)
   for (index_t t = 0; t < nt; ++t) {
-    const TetCorners<Real> x = cpu::load_corners(qt, &tets[4 * t]);
+    const TetCorners<Real> x = loops::tet_corners(qt, &tets[4 * t]);
     int sweeps = 0;
     const Mat3<Real> q = polar_rotation(
         deformation_gradient(x.x[0], x.x[1], x.x[2], x.x[3], rest[t].dm_inv), max_sweeps, &sweeps);
@@ -55,7 +55,7 @@ void LinearCg<Real>::prepare_elements() {
     std::copy(q.m, q.m + 9, &rotations[9 * static_cast<std::size_t>(t)]);
     Vec3<Real> g[4];
     corotated_linear_gradient(model_, rest[t], q, x, g);
-    cpu::store_corners(g, &corners[12 * static_cast<std::size_t>(t)]);
+    loops::store_corners(g, &corners[12 * static_cast<std::size_t>(t)]);
   }
   most_polar_sweeps_ = most;
   this->problem_.assemble_corners(corners, force_.data());
@@ -71,7 +71,7 @@ void LinearCg<Real>::prepare_elements() {
                 &rotations[9 * static_cast<std::size_t>(t)] + 9, q.m);
       Vec3<Real> d[4];
       corotated_linear_diagonal(model_, rest[t], q, d);
-      cpu::store_corners(d, &corners[12 * static_cast<std::size_t>(t)]);
+      loops::store_corners(d, &corners[12 * static_cast<std::size_t>(t)]);
     }
     this->problem_.assemble_corners(corners, inverse_preconditioner_.data());
   }
@@ -98,10 +98,10 @@ void LinearCg<Real>::apply(const Real* p, Real* out) {
     Mat3<Real> q;
     std::copy(&rotations[9 * static_cast<std::size_t>(t)],
               &rotations[9 * static_cast<std::size_t>(t)] + 9, q.m);
-    const TetCorners<Real> pc = cpu::load_corners(p, &tets[4 * t]);
+    const TetCorners<Real> pc = loops::tet_corners(p, &tets[4 * t]);
     Vec3<Real> kp[4];
     corotated_linear_product(model_, rest[t], q, pc.x, kp);
-    cpu::store_corners(kp, &corners[12 * static_cast<std::size_t>(t)]);
+    loops::store_corners(kp, &corners[12 * static_cast<std::size_t>(t)]);
   }
   this->problem_.assemble_corners(corners, out);
   const auto& mass = this->problem_.mass();

@@ -38,8 +38,8 @@ class LinearCg final : public MethodBase<Real> {
  public:
   LinearCg(LocalProblem<Real>& problem, const SolverSpec& spec);
   // No step length: 0 in the stats and checkpoints, as the Stepper contract says.
-  double alpha() const override { return 0; }
-  void set_alpha(double) override {}
+  StepMemory memory() const override { return {}; }
+  void set_memory(const StepMemory&) override {}
 
   // Of the last step: CG iterations made, r.r / b.b at the end, and the most
   // polar sweeps any of this rank's tets needed (<= solver.polar_sweeps).

@@ -44,7 +44,7 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
   if (!stats.finite) return stats;
 
   commit_step(q_.data(), qt_.data(), problem_.dt(), t_next, state);
-  stats.alpha = this->alpha();
+  stats.alpha = this->memory().alpha;
   if (stats.energy == 0) stats.energy = check_.checked_energy();
   return stats;
 }

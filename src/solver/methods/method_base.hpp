@@ -28,8 +28,8 @@ class MethodBase : public Stepper<Real> {
   // initial state is then not evaluated.
   MethodBase(LocalProblem<Real>& problem, const SolverSpec& spec, bool own_guess = false);
   StepStats step(BodyState<Real>& state) final;
-  double alpha() const override { return alpha_; }
-  void set_alpha(double alpha) override { alpha_ = alpha; }
+  StepMemory memory() const override { return {alpha_}; }
+  void set_memory(const StepMemory& memory) override { alpha_ = memory.alpha; }
   std::vector<double> local_region_sums() override {
     return problem_.local_region_sums(q_.data(), y_.data(), qt_.data());
   }

@@ -1,56 +1,24 @@
 #pragma once
-// The host execution of the device stepper: the same launches as the CUDA
-// execution (src/kernels/cuda/exec_cuda.cuh), run as OpenMP loops on host
-// memory. It is always compiled, so the whole GPU algorithm (streams, packed
-// exchange, graphs of iterations, device reductions) is exercised and
-// compared with the CPU reference on machines without a GPU.
-//
-// The interface every execution offers (duck-typed, used by
-// backends/device_engine_impl.hpp):
-//   kAsync                        launches return before the work is done
-//   for_each(stream, begin, end, f)   f(i) for i in [begin, end)
-//   reduce(stream, n, f)          sum over i of f(i), a Sum2 of doubles
-//   allocate/release(bytes)       device memory; allocate_pinned for staging
-//   copy(stream, dst, src, bytes) any direction, ordered on the stream
-//   zero(stream, p, bytes)
-//   record(stream, event), wait(stream, event): event e marks the point of
-//   stream s; a later wait makes another stream start after it
-//   sync(stream)                  the host waits for the stream
-//   run_graph(key, enqueue)       enqueue() once under capture, replayed by key
-//   clear_graphs()                forget captured graphs (their buffers moved)
+// The host execution (kernels/execution.hpp): every launch an OpenMP loop on
+// host memory. It runs the Chebyshev engine of every CPU run and the loops of
+// LocalProblem and the other methods, so the CPU and the CUDA backends share
+// one set of element and vertex loops (kernels/loops.hpp).
 #include <omp.h>
 
-#include <atomic>
 #include <cstddef>
-#include <cstdlib>
 #include <cstring>
 #include <new>
 #include <string>
 
 #include "common/mesh.hpp"
-#include "kernels/host_device.hpp"
+#include "kernels/execution.hpp"
 
 namespace descent {
-
-// A pair of sums accumulated in double: an energy and its terms' magnitudes.
-struct Sum2 {
-  double value = 0;
-  double magnitude = 0;
-};
-
-// Atomic add usable from launched bodies on both executions.
-template <class Real>
-DESCENT_HOST_DEVICE inline void atomic_add(Real* target, Real value) {
-#if defined(__CUDA_ARCH__)
-  atomicAdd(target, value);
-#else
-  std::atomic_ref<Real>(*target).fetch_add(value, std::memory_order_relaxed);
-#endif
-}
 
 class HostExec {
  public:
   static constexpr bool kAsync = false;
+  static constexpr bool kHostMemory = true;
 
   HostExec() = default;
   explicit HostExec(int /*device*/) {}

@@ -1,9 +1,10 @@
 #pragma once
-// The device side of the GPU stepper (DESIGN §4): one rank's mesh, state and
-// iteration kept in device memory, driven by backends/device_chebyshev.hpp.
-// Two implementations of one template (backends/device_engine_impl.hpp): the
-// host execution, always built, and CUDA, built when a CUDA compiler is found;
-// the stepper does not know which one it drives.
+// Where the Chebyshev iteration runs (DESIGN §4): one rank's mesh, iterates
+// and iteration in an execution's memory, driven by the one Chebyshev
+// stepper (solver/chebyshev_descent.hpp) on every backend. One template over
+// an execution (solver/iteration_engine_impl.hpp): the host (OpenMP), always
+// built and the engine of every CPU run, and CUDA, built when a CUDA compiler
+// is found. The stepper does not know which one it drives.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -29,8 +30,9 @@ struct EngineOptions {
   int device = 0;  // CUDA device ordinal
 };
 
-// Device memory held, split by what it scales with.
-struct DeviceMemory {
+// Memory the engine allocated, split by what it scales with (on the host
+// the mesh data the problem already holds is used in place, not counted).
+struct EngineMemory {
   std::size_t tet_bytes = 0;     // arrays with an entry per tet
   std::size_t vertex_bytes = 0;  // arrays with an entry per vertex
   std::size_t other_bytes = 0;   // fixed-size: parameters, reduction scratch
@@ -38,19 +40,20 @@ struct DeviceMemory {
 };
 
 template <class Real>
-class DeviceEngine {
+class IterationEngine {
  public:
-  virtual ~DeviceEngine() = default;
+  virtual ~IterationEngine() = default;
 
-  // Pinned host buffers, 3 reals per local vertex each, through which a
-  // step's data travel at full bus speed: the stepper writes the initial
-  // guess q, inertial target y, step-start positions qt and the external
-  // force there, and download() fills q.
+  // Host buffers (pinned on a device), 3 reals per local vertex each,
+  // through which a step's data travel: the stepper writes the initial guess
+  // q, inertial target y, step-start positions qt and the external force
+  // there, and download() fills q. `vector` carries a Lanczos start vector.
   struct Staging {
     Real* q;
     Real* y;
     Real* qt;
     Real* force;
+    Real* vector;
   };
   virtual Staging staging() = 0;
   // A step's start: the staged q (also the checked and the previous
@@ -71,7 +74,25 @@ class DeviceEngine {
   virtual void download(bool checked) = 0;
   virtual void download_interpolants(Real* interpolants) = 0;
 
-  // The host waits for all queued device work.
+  // The spectrum estimate (solver/spectrum.hpp): Lanczos on D^-1 H at the
+  // current iterate, H the exact Hessian of eps (held dofs removed), D the
+  // diagonal the iterations use. Vectors live in the engine: v (the current
+  // Lanczos vector), v_prev and w. Sums are this rank's, over owned dofs;
+  // the caller reduces them (one counted allreduce each).
+  // The diagonal at the current iterate, as the next refreshing iteration
+  // would compute it (that iteration may then skip its refresh).
+  virtual void refresh_diagonal() = 0;
+  // w <- staging().vector on free dofs (0 on held ones), v = v_prev = 0;
+  // returns w . D w.
+  virtual double lanczos_begin() = 0;
+  // v_prev <- v, v <- w / beta.
+  virtual void lanczos_next(double beta) = 0;
+  // y <- H v; returns v . H v.
+  virtual double lanczos_product() = 0;
+  // w <- D^-1 y - alpha v - beta_prev v_prev; returns w . D w.
+  virtual double lanczos_orthogonalize(double alpha, double beta_prev) = 0;
+
+  // The host waits for all queued work.
   virtual void synchronize() = 0;
 
   // The element pass alone over all tets (gradient, and the Hessian diagonal
@@ -84,21 +105,26 @@ class DeviceEngine {
   };
   virtual KernelTiming time_element_pass(bool with_diag, int repeats) = 0;
 
-  virtual DeviceMemory memory() const = 0;
+  virtual EngineMemory memory() const = 0;
   virtual std::string describe() const = 0;
+  // Whether the engine's memory is a device's (the CPU stepper needs no
+  // report of it).
+  virtual bool on_device() const = 0;
   // Captured sequences replayed so far (0 where nothing is captured).
   virtual long graph_launches() const = 0;
 };
 
-// The host execution of the engine (OpenMP), for tests and machines without
-// a GPU; `halo` is the rank's exchange of shared-vertex partial sums.
+// The host engine (OpenMP): every CPU run's; `halo` is the rank's exchange
+// of shared-vertex partial sums.
 template <class Real>
-std::unique_ptr<DeviceEngine<Real>> make_host_engine(LocalProblem<Real>& problem, Halo<Real>& halo,
-                                                     const EngineOptions& options);
+std::unique_ptr<IterationEngine<Real>> make_host_engine(LocalProblem<Real>& problem,
+                                                        Halo<Real>& halo,
+                                                        const EngineOptions& options);
 // The CUDA engine on device options.device; a build without CUDA throws
 // InputError saying so.
 template <class Real>
-std::unique_ptr<DeviceEngine<Real>> make_cuda_engine(LocalProblem<Real>& problem, Halo<Real>& halo,
-                                                     const EngineOptions& options);
+std::unique_ptr<IterationEngine<Real>> make_cuda_engine(LocalProblem<Real>& problem,
+                                                        Halo<Real>& halo,
+                                                        const EngineOptions& options);
 
 }  // namespace descent

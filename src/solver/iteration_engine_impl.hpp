@@ -1,8 +1,8 @@
 #pragma once
-// DeviceEngine over an execution (HostExec or CudaExec): instantiated in
-// backends/host_engine.cpp and kernels/cuda/cuda_engine.cu, nowhere else.
+// IterationEngine over an execution (HostExec or CudaExec): instantiated in
+// solver/host_engine.cpp and kernels/cuda/cuda_engine.cu, nowhere else.
 //
-// One iteration, as DESIGN §3 orders it, on two streams:
+// One iteration (or Hessian product), as DESIGN §3 orders it, on two streams:
 //   main: boundary tets [0, nb) -> (gather: shared vertices [ni, nv)) ->
 //         shared partials to the host (one contiguous copy: the shared
 //         vertices are the last nv - ni) -> exchange on the host -> back
@@ -10,20 +10,22 @@
 //   main: waits for side, then the fused vertex update over all dofs.
 // Without neighbours there is no exchange, and the iterations between two
 // energy checks are captured once per shape and replayed (run_graph).
+// On the host (Exec::kHostMemory) the mesh data the problem holds is used
+// in place: the engine allocates only what it writes.
 #include <algorithm>
 #include <chrono>
 #include <string>
 #include <variant>
 #include <vector>
 
-#include "backends/device_engine.hpp"
-#include "backends/device_loops.hpp"
 #include "common/error.hpp"
+#include "kernels/loops.hpp"
+#include "solver/iteration_engine.hpp"
 
 namespace descent {
 
 template <class Exec, class Real>
-class EngineImpl final : public DeviceEngine<Real> {
+class EngineImpl final : public IterationEngine<Real> {
  public:
   EngineImpl(LocalProblem<Real>& problem, Halo<Real>& halo, const EngineOptions& options)
       : exec_(options.device),
@@ -39,37 +41,38 @@ class EngineImpl final : public DeviceEngine<Real> {
     nv_ = mesh.num_vertices();
     ni_ = mesh.num_interior;
     owned_ = mesh.num_owned;
-    const std::size_t n3 = 3 * static_cast<std::size_t>(nv_);
+    n3_ = 3 * static_cast<std::size_t>(nv_);
     const bool gather = options.assembly == Assembly::gather;
 
-    tets_ = upload_new(mesh.tets.data(), mesh.tets.size(), memory_.tet_bytes);
-    rest_ = upload_new(problem.rest().data(), problem.rest().size(), memory_.tet_bytes);
+    tets_ = constant(mesh.tets.data(), mesh.tets.size(), memory_.tet_bytes);
+    rest_ = constant(problem.rest().data(), problem.rest().size(), memory_.tet_bytes);
     if (converting_) interpolant_ = make<Real>(nt_, memory_.tet_bytes);
     if (gather) {
       corner_ids_ =
-          upload_new(mesh.vertex_corners.data(), mesh.vertex_corners.size(), memory_.tet_bytes);
+          constant(mesh.vertex_corners.data(), mesh.vertex_corners.size(), memory_.tet_bytes);
       offsets_ =
-          upload_new(mesh.corner_offsets.data(), mesh.corner_offsets.size(), memory_.vertex_bytes);
+          constant(mesh.corner_offsets.data(), mesh.corner_offsets.size(), memory_.vertex_bytes);
       corner_grad_ = make<Real>(12 * static_cast<std::size_t>(nt_), memory_.tet_bytes);
       corner_diag_ = make<Real>(12 * static_cast<std::size_t>(nt_), memory_.tet_bytes);
     }
-    mass_ = upload_new(problem.mass().data(), problem.mass().size(), memory_.vertex_bytes);
+    mass_ = constant(problem.mass().data(), problem.mass().size(), memory_.vertex_bytes);
     fixed_ =
-        upload_new(problem.fixed_axes().data(), problem.fixed_axes().size(), memory_.vertex_bytes);
-    floor_ = upload_new(problem.diagonal_floor().data(), n3, memory_.vertex_bytes);
+        constant(problem.fixed_axes().data(), problem.fixed_axes().size(), memory_.vertex_bytes);
+    floor_ = constant(problem.diagonal_floor().data(), n3_, memory_.vertex_bytes);
     for (Array<Real>* a : {&force_, &y_, &qt_, &checked_, &diag_, &q_[0], &q_[1], &q_[2]})
-      *a = make<Real>(n3, memory_.vertex_bytes);
-    partial_ = make<Real>(2 * n3, memory_.vertex_bytes);
+      *a = make<Real>(n3_, memory_.vertex_bytes);
+    partial_ = make<Real>(2 * n3_, memory_.vertex_bytes);
     // Staging for the exchange: the host buffer is indexed like partial_, but
     // only the shared range [width ni, width nv) is ever copied.
-    if (halo_.num_neighbours() > 0) stage_ = make_pinned<Real>(2 * n3);
-    for (Array<Real>* a : {&stage_q_, &stage_y_, &stage_qt_, &stage_force_})
-      *a = make_pinned<Real>(n3);
+    if (halo_.num_neighbours() > 0) stage_ = make_pinned<Real>(2 * n3_);
+    for (Array<Real>* a : {&stage_q_, &stage_y_, &stage_qt_, &stage_force_, &stage_vector_})
+      *a = make_pinned<Real>(n3_);
     reserve_params(64);
   }
 
-  typename DeviceEngine<Real>::Staging staging() override {
-    return {stage_q_.data(), stage_y_.data(), stage_qt_.data(), stage_force_.data()};
+  typename IterationEngine<Real>::Staging staging() override {
+    return {stage_q_.data(), stage_y_.data(), stage_qt_.data(), stage_force_.data(),
+            stage_vector_.data()};
   }
 
   void begin_step(bool upload_force, const Real* interpolants) override {
@@ -112,15 +115,15 @@ class EngineImpl final : public DeviceEngine<Real> {
 
   Energy local_energy(bool checked) override {
     const Real* q = checked ? checked_.data() : q_[cur_].data();
-    const device::VertexData<Real> vd = vertex_data();
+    const loops::VertexData<Real> vd = vertex_data();
     const Sum2 s = std::visit(
         [&](const auto& model) {
-          return converting_ ? device::local_energy<true>(exec_, kMain, model, conversion_,
+          return converting_ ? loops::local_energy<true>(exec_, kMain, model, conversion_,
+                                                         interpolant_.data(), q, tets_.data(),
+                                                         rest_.data(), nt_, vd, owned_)
+                             : loops::local_energy<false>(exec_, kMain, model, conversion_,
                                                           interpolant_.data(), q, tets_.data(),
-                                                          rest_.data(), nt_, vd, owned_)
-                             : device::local_energy<false>(exec_, kMain, model, conversion_,
-                                                           interpolant_.data(), q, tets_.data(),
-                                                           rest_.data(), nt_, vd, owned_);
+                                                          rest_.data(), nt_, vd, owned_);
         },
         model_);
     return {s.value, s.magnitude};
@@ -145,13 +148,56 @@ class EngineImpl final : public DeviceEngine<Real> {
     exec_.sync(kMain);
   }
 
+  void refresh_diagonal() override {
+    assemble([&](int stream, index_t begin,
+                 index_t end) { element_pass(stream, q_[cur_].data(), begin, end, true, 6); },
+             true, 6);
+    loops::diagonal_update(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), diag_.data());
+    exec_.sync(kMain);
+  }
+
+  double lanczos_begin() override {
+    if (lanczos_[0].size() == 0)
+      for (Array<Real>& a : lanczos_) a = make<Real>(n3_, memory_.vertex_bytes);
+    Real* w = lanczos_[kW].data();
+    exec_.copy(kMain, w, stage_vector_.data(), lanczos_[kW].bytes());
+    exec_.zero(kMain, lanczos_[kV].data(), lanczos_[kV].bytes());
+    exec_.zero(kMain, lanczos_[kVPrev].data(), lanczos_[kVPrev].bytes());
+    loops::zero_held(exec_, kMain, 3 * nv_, fixed_.data(), w);
+    return loops::weighted_norm2(exec_, kMain, 3 * owned_, diag_.data(), w);
+  }
+
+  void lanczos_next(double beta) override {
+    loops::lanczos_advance(exec_, kMain, 3 * nv_, static_cast<Real>(1.0 / beta),
+                           lanczos_[kW].data(), lanczos_[kV].data(), lanczos_[kVPrev].data());
+  }
+
+  double lanczos_product() override {
+    const Real* q = q_[cur_].data();
+    const Real* v = lanczos_[kV].data();
+    assemble([&](int stream, index_t begin,
+                 index_t end) { hessian_product_pass(stream, q, v, begin, end); },
+             false, 3);
+    // partial_ holds the elastic part, 3 per vertex.
+    return loops::hessian_vertex_terms(exec_, kMain, 3 * nv_, 3 * owned_, vertex_data(),
+                                       partial_.data(), v, lanczos_[kY].data());
+  }
+
+  double lanczos_orthogonalize(double alpha, double beta_prev) override {
+    Real* w = lanczos_[kW].data();
+    loops::lanczos_residual(exec_, kMain, 3 * nv_, lanczos_[kY].data(), diag_.data(),
+                            lanczos_[kV].data(), lanczos_[kVPrev].data(), static_cast<Real>(alpha),
+                            static_cast<Real>(beta_prev), w);
+    return loops::weighted_norm2(exec_, kMain, 3 * owned_, diag_.data(), w);
+  }
+
   void synchronize() override {
     exec_.sync(kSide);
     exec_.sync(kMain);
   }
 
-  typename DeviceEngine<Real>::KernelTiming time_element_pass(bool with_diag,
-                                                              int repeats) override {
+  typename IterationEngine<Real>::KernelTiming time_element_pass(bool with_diag,
+                                                                 int repeats) override {
     const int width = with_diag ? 6 : 3;
     const Real* q = q_[cur_].data();
     synchronize();
@@ -173,17 +219,20 @@ class EngineImpl final : public DeviceEngine<Real> {
     return {seconds, per_tet * nt_};
   }
 
-  DeviceMemory memory() const override { return memory_; }
+  EngineMemory memory() const override { return memory_; }
   std::string describe() const override {
     return exec_.describe() + ", " + to_string(options_.assembly) + " assembly";
   }
+  bool on_device() const override { return !Exec::kHostMemory; }
   long graph_launches() const override { return exec_.graph_launches(); }
 
  private:
   static constexpr int kMain = 0, kSide = 1;                              // streams
   static constexpr int kStart = 0, kBoundaryDone = 1, kInteriorDone = 2;  // events
+  static constexpr int kV = 0, kVPrev = 1, kW = 2, kY = 3;                // Lanczos vectors
 
-  // Memory of the execution, released with the engine.
+  // Memory of the execution, released with the engine; or a view of host
+  // memory another object owns (releases nothing).
   template <class T>
   class Array {
    public:
@@ -194,6 +243,12 @@ class EngineImpl final : public DeviceEngine<Real> {
           pinned_(pinned),
           p_(static_cast<T*>(pinned ? exec->allocate_pinned(n * sizeof(T))
                                     : exec->allocate(n * sizeof(T)))) {}
+    static Array view(const T* p, std::size_t n) {
+      Array a;
+      a.n_ = n;
+      a.p_ = const_cast<T*>(p);  // read only: views are made of constant data
+      return a;
+    }
     Array(Array&& o) noexcept { *this = std::move(o); }
     Array& operator=(Array&& o) noexcept {
       std::swap(exec_, o.exec_);
@@ -203,7 +258,7 @@ class EngineImpl final : public DeviceEngine<Real> {
       return *this;
     }
     ~Array() {
-      if (!p_) return;
+      if (!p_ || !exec_) return;
       if (pinned_)
         exec_->release_pinned(p_);
       else
@@ -214,7 +269,7 @@ class EngineImpl final : public DeviceEngine<Real> {
     std::size_t bytes() const { return n_ * sizeof(T); }
 
    private:
-    Exec* exec_ = nullptr;
+    Exec* exec_ = nullptr;  // null for a view
     std::size_t n_ = 0;
     bool pinned_ = false;
     T* p_ = nullptr;
@@ -229,12 +284,18 @@ class EngineImpl final : public DeviceEngine<Real> {
   Array<T> make_pinned(std::size_t n) {
     return Array<T>(&exec_, n, true);
   }
+  // Data that stays as the problem holds it: used in place on the host,
+  // copied to a device once.
   template <class T>
-  Array<T> upload_new(const T* host, std::size_t n, std::size_t& counter) {
-    Array<T> a = make<T>(n, counter);
-    exec_.copy(kMain, a.data(), host, a.bytes());
-    exec_.sync(kMain);
-    return a;
+  Array<T> constant(const T* host, std::size_t n, std::size_t& counter) {
+    if constexpr (Exec::kHostMemory) {
+      return Array<T>::view(host, n);
+    } else {
+      Array<T> a = make<T>(n, counter);
+      exec_.copy(kMain, a.data(), host, a.bytes());
+      exec_.sync(kMain);
+      return a;
+    }
   }
 
   int prev_index() const { return (cur_ + 2) % 3; }
@@ -244,20 +305,18 @@ class EngineImpl final : public DeviceEngine<Real> {
   void reserve_params(std::size_t count) {
     if (count <= params_.size()) return;
     memory_.other_bytes -= params_.bytes();
-    params_ = make<device::IterationParams<Real>>(count, memory_.other_bytes);
-    params_host_ = make_pinned<device::IterationParams<Real>>(count);
+    params_ = make<loops::IterationParams<Real>>(count, memory_.other_bytes);
+    params_host_ = make_pinned<loops::IterationParams<Real>>(count);
     exec_.clear_graphs();
   }
 
-  device::VertexData<Real> vertex_data() const {
+  loops::VertexData<Real> vertex_data() const {
     return {mass_.data(), fixed_.data(), floor_.data(), force_.data(),
             y_.data(),    qt_.data(),    terms_};
   }
 
-  void element_pass(int stream, const Real* q, index_t begin, index_t end, bool with_diag,
-                    int width) {
-    if (end <= begin) return;
-    device::ElementOut<Real> out;
+  loops::ElementOut<Real> element_out(int width) {
+    loops::ElementOut<Real> out;
     if (options_.assembly == Assembly::gather) {
       out.corner_grad = corner_grad_.data();
       out.corner_diag = corner_diag_.data();
@@ -265,34 +324,58 @@ class EngineImpl final : public DeviceEngine<Real> {
       out.partial = partial_.data();
     }
     out.width = width;
+    return out;
+  }
+
+  void element_pass(int stream, const Real* q, index_t begin, index_t end, bool with_diag,
+                    int width) {
+    if (end <= begin) return;
+    const loops::ElementOut<Real> out = element_out(width);
     std::visit(
         [&](const auto& model) {
           if (converting_)
-            device::element_pass<true>(exec_, stream, model, conversion_, interpolant_.data(), q,
-                                       tets_.data(), rest_.data(), begin, end, with_diag, out);
+            loops::element_pass<true>(exec_, stream, model, conversion_, interpolant_.data(), q,
+                                      tets_.data(), rest_.data(), begin, end, with_diag, out);
           else
-            device::element_pass<false>(exec_, stream, model, conversion_, interpolant_.data(), q,
-                                        tets_.data(), rest_.data(), begin, end, with_diag, out);
+            loops::element_pass<false>(exec_, stream, model, conversion_, interpolant_.data(), q,
+                                       tets_.data(), rest_.data(), begin, end, with_diag, out);
+        },
+        model_);
+  }
+
+  void hessian_product_pass(int stream, const Real* q, const Real* p, index_t begin, index_t end) {
+    if (end <= begin) return;
+    const loops::ElementOut<Real> out = element_out(3);
+    std::visit(
+        [&](const auto& model) {
+          if (converting_)
+            loops::hessian_product_pass<true>(exec_, stream, model, conversion_,
+                                              static_cast<const Real*>(interpolant_.data()), q, p,
+                                              tets_.data(), rest_.data(), begin, end, out);
+          else
+            loops::hessian_product_pass<false>(exec_, stream, model, conversion_,
+                                               static_cast<const Real*>(interpolant_.data()), q, p,
+                                               tets_.data(), rest_.data(), begin, end, out);
         },
         model_);
   }
 
   void gather(int stream, index_t begin, index_t end, bool with_diag, int width) {
     if (end <= begin) return;
-    device::gather_corners(exec_, stream, offsets_.data(), corner_ids_.data(), begin, end,
-                           corner_grad_.data(), partial_.data(), width, 0);
+    loops::gather_corners(exec_, stream, offsets_.data(), corner_ids_.data(), begin, end,
+                          corner_grad_.data(), partial_.data(), width, 0);
     if (with_diag)
-      device::gather_corners(exec_, stream, offsets_.data(), corner_ids_.data(), begin, end,
-                             corner_diag_.data(), partial_.data(), width, 3);
+      loops::gather_corners(exec_, stream, offsets_.data(), corner_ids_.data(), begin, end,
+                            corner_diag_.data(), partial_.data(), width, 3);
   }
 
-  // One iteration from buffer `c` (current), (c + 2) % 3 (previous) into
-  // (c + 1) % 3 (next).
-  void iteration(bool refresh, const device::IterationParams<Real>* params, int c) {
-    const Real* q = q_[c].data();
-    const Real* q_prev = q_[(c + 2) % 3].data();
-    Real* q_next = q_[(c + 1) % 3].data();
-    const int width = refresh ? 6 : 3;
+  // Element results assembled into partial_ (`width` per vertex) on every
+  // local vertex, shared ones completed through the halo: pass(stream, begin,
+  // end) runs the element kernel over tets [begin, end); with_diag: its
+  // second output (the diagonal) is gathered too. Queued on the streams; the
+  // main stream holds the result when this returns.
+  template <class ElementPass>
+  void assemble(const ElementPass& pass, bool with_diag, int width) {
     const bool gather_mode = options_.assembly == Assembly::gather;
     const bool exchange = halo_.num_neighbours() > 0;
     const std::size_t shared_offset = static_cast<std::size_t>(width) * ni_;
@@ -302,17 +385,17 @@ class EngineImpl final : public DeviceEngine<Real> {
       exec_.zero(kMain, partial_.data(), static_cast<std::size_t>(width) * nv_ * sizeof(Real));
     exec_.record(kMain, kStart);
     exec_.wait(kSide, kStart);
-    element_pass(kMain, q, 0, nb_, refresh, width);
-    if (gather_mode) gather(kMain, ni_, nv_, refresh, width);
+    pass(kMain, 0, nb_);
+    if (gather_mode) gather(kMain, ni_, nv_, with_diag, width);
     exec_.record(kMain, kBoundaryDone);
     if (exchange)
       exec_.copy(kMain, stage_.data() + shared_offset, partial_.data() + shared_offset,
                  shared_bytes);
     auto interior = [&] {
-      element_pass(kSide, q, nb_, nt_, refresh, width);
+      pass(kSide, nb_, nt_);
       if (gather_mode) {
         exec_.wait(kSide, kBoundaryDone);  // interior vertices have boundary-tet corners too
-        gather(kSide, 0, ni_, refresh, width);
+        gather(kSide, 0, ni_, with_diag, width);
       }
       exec_.record(kSide, kInteriorDone);
     };
@@ -330,8 +413,18 @@ class EngineImpl final : public DeviceEngine<Real> {
                  shared_bytes);
     }
     exec_.wait(kMain, kInteriorDone);
-    device::vertex_update(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), width, refresh,
-                          diag_.data(), q, q_prev, q_next, params);
+  }
+
+  // One iteration from buffer `c` (current), (c + 2) % 3 (previous) into
+  // (c + 1) % 3 (next).
+  void iteration(bool refresh, const loops::IterationParams<Real>* params, int c) {
+    const Real* q = q_[c].data();
+    const int width = refresh ? 6 : 3;
+    assemble([&](int stream, index_t begin,
+                 index_t end) { element_pass(stream, q, begin, end, refresh, width); },
+             refresh, width);
+    loops::vertex_update(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), width, refresh,
+                         diag_.data(), q, q_[(c + 2) % 3].data(), q_[(c + 1) % 3].data(), params);
   }
 
   Exec exec_;
@@ -342,8 +435,9 @@ class EngineImpl final : public DeviceEngine<Real> {
   bool converting_;
   VertexTerms<Real> terms_;
   index_t nt_ = 0, nb_ = 0, nv_ = 0, ni_ = 0, owned_ = 0;
+  std::size_t n3_ = 0;
   int cur_ = 0;
-  DeviceMemory memory_;
+  EngineMemory memory_;
 
   Array<index_t> tets_, corner_ids_, offsets_;
   Array<TetRest<Real>> rest_;
@@ -351,9 +445,10 @@ class EngineImpl final : public DeviceEngine<Real> {
   Array<Real> mass_, floor_, force_, y_, qt_, checked_, diag_, partial_;
   Array<std::uint8_t> fixed_;
   Array<Real> q_[3];
-  Array<Real> stage_;                                       // exchange (pinned host)
-  Array<Real> stage_q_, stage_y_, stage_qt_, stage_force_;  // step data (pinned host)
-  Array<device::IterationParams<Real>> params_, params_host_;
+  Array<Real> lanczos_[4];  // v, v_prev, w, y: made at the first estimate
+  Array<Real> stage_;       // exchange (pinned host)
+  Array<Real> stage_q_, stage_y_, stage_qt_, stage_force_, stage_vector_;  // (pinned host)
+  Array<loops::IterationParams<Real>> params_, params_host_;
 };
 
 }  // namespace descent

@@ -1,8 +1,8 @@
-// Collectives of the device stepper (emulated backend), counted at the MPI
-// boundary through PMPI (tests/mpi/pmpi_counters.hpp): exactly one
+// Collectives of the Chebyshev engine with fixed parameters, counted at the
+// MPI boundary through PMPI (tests/mpi/pmpi_counters.hpp): exactly one
 // MPI_Allreduce per energy check (12 per 96-iteration step) and no other
-// collective inside a step, as on the CPU
-// (tests/mpi/test_collectives.cpp), for gather and scatter assembly.
+// collective inside a step, in float, for gather and scatter assembly
+// (tests/mpi/test_collectives.cpp counts the automatic parameters' pattern).
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -14,14 +14,14 @@
 namespace descent {
 namespace {
 
-TEST(DeviceCollectives, OneAllreducePerCheckAndNothingElse) {
-  Scene scene = testing::small_helix_scene();
+TEST(EngineCollectives, OneAllreducePerCheckAndNothingElse) {
+  Scene scene = testing::fixed_chebyshev(testing::small_helix_scene());
   scene.solver.iterations = 96;
   scene.solver.check_interval = 8;
   const Mesh mesh = build_scene_mesh(scene.mesh);
   for (Assembly assembly : {Assembly::gather, Assembly::scatter}) {
     Simulation<float> sim(MPI_COMM_WORLD, scene, mesh,
-                          testing::backend_of(BackendKind::emulated, assembly));
+                          testing::backend_of(BackendKind::cpu, assembly));
     for (int frame = 0; frame < 3; ++frame) {
       const long allreduce_before = testing::pmpi_allreduces();
       const long other_before = testing::pmpi_other_collectives();
