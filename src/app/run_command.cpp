@@ -190,6 +190,11 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
     row.stalled = step.stalled ? 1 : 0;
     row.nonfinite_rollbacks = step.nonfinite_rollbacks;
     row.status = step_status(step);
+    row.lambda_min = step.lambda_min;
+    row.lambda_max = step.lambda_max;
+    row.rho = step.rho;
+    row.spectrum_steps = step.spectrum_steps;
+    row.error_estimate = step.error_estimate;
     // A failed step has nothing to measure (and measuring is collective, so
     // every rank skips it alike: all know from the reduction).
     row.extra = step.finite ? sim.measure()

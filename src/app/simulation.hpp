@@ -45,6 +45,8 @@ class Simulation {
   void restore(const Checkpoint& checkpoint);
 
   const LocalMesh& local_mesh() const { return local_; }
+  // The solver keys the simulation's own stepper runs with.
+  const SolverSpec& solver_spec() const { return scene_.solver; }
   const LocalProblem<Real>& problem() const { return problem_; }
   // For `descent study` and method tests: other methods over the same
   // problem, started from this state.

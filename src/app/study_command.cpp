@@ -14,6 +14,7 @@
 #include "app/simulation.hpp"
 #include "app/study_trace.hpp"
 #include "common/error.hpp"
+#include "io/scene_document.hpp"
 
 namespace descent {
 
@@ -150,14 +151,20 @@ void run_cases(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
                                        options.repeats, energy_star));
       }
       const CaseResult& r = results.back();
-      if (rank == 0 && !options.quiet)
+      if (rank == 0 && !options.quiet) {
+        std::string spectrum;
+        if (r.stats.lambda_max > 0)
+          spectrum = detail::concat("  lambda [", format_number(r.stats.lambda_min), ", ",
+                                    format_number(r.stats.lambda_max), "]",
+                                    r.stats.spectrum_steps > 0 ? " estimated" : " carried");
         std::fprintf(stderr,
                      "study: [%zu/%zu] %-14s e_%d = %.3e  %.1f ms (cpu %.1f ms)  %ld collectives"
-                     "  %d rollbacks  alpha %.3g\n",
+                     "  %d rollbacks  alpha %.3g%s\n",
                      c + 1, options.cases.size(), r.label.c_str(), r.records.back().k,
                      r.errors.back(), 1e3 * r.records.back().seconds,
                      1e3 * r.records.back().cpu_seconds, r.records.back().collectives,
-                     r.stats.rollbacks, r.stats.alpha);
+                     r.stats.rollbacks, r.stats.alpha, spectrum.c_str());
+      }
     }
     if (rank != 0) continue;
     std::ofstream out(csv, std::ios::app);

@@ -14,6 +14,29 @@ double finite_or_nan(const EnergySums& sums) {
 
 double cpu_now() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
+// What a case starts from, as a running simulation would have it: an
+// automatic Chebyshev case the warm-up's spectrum estimate (a property of
+// the state, whichever method reached it) and, when the warm-up ran it too,
+// its step length; a case of the warm-up's own method its step length;
+// other cases start fresh.
+StepMemory carried_memory(const SolverSpec& warmup, const StepMemory& memory,
+                          const SolverSpec& spec) {
+  const bool same_method =
+      spec.method == warmup.method &&
+      (spec.method != "chebyshev" || spec.chebyshev_parameters == warmup.chebyshev_parameters);
+  const bool automatic = spec.method == "chebyshev" && spec.chebyshev_parameters == "auto";
+  StepMemory carried;
+  if (same_method) carried = memory;
+  if (automatic) {
+    carried.lambda_min = memory.lambda_min;
+    carried.lambda_max = memory.lambda_max;
+    carried.steps_since_estimate = memory.steps_since_estimate;
+    carried.reestimate = memory.reestimate;
+  }
+  if (!same_method && !automatic) carried.alpha = spec.alpha_max;
+  return carried;
+}
+
 // This rank's share (owned vertices) of sum m |(q - q_t)/h|^2 / 2, as an Energy
 // so it rides in the measurement's reduction beside eps.
 template <class Real>
@@ -68,6 +91,7 @@ StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spe
   LocalProblem<Real>& problem = sim.problem();
   LocalMeasure<Real> local_measure(problem, measuring);
   std::unique_ptr<Stepper<Real>> stepper = make_stepper(problem, spec);
+  stepper->set_memory(carried_memory(sim.solver_spec(), sim.stepper().memory(), spec));
   BodyState<Real> state = sim.state();
 
   auto collectives = [&sim] {

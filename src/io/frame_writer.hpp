@@ -89,6 +89,13 @@ struct FrameStats {
   // "stalled", "rolled_back_non_finite" (a non-finite trial was rejected, the
   // step went on), "ok".
   std::string status = "ok";
+  // Chebyshev (0 for other methods): the spectrum bounds [lambda_min,
+  // lambda_max] of D^-1 H the step used, its rho, the Lanczos steps it spent
+  // estimating them (0: reused), and the relative error its last check
+  // estimates (NaN: none).
+  double lambda_min = 0, lambda_max = 0, rho = 0;
+  int spectrum_steps = 0;
+  double error_estimate = 0;
 };
 
 class StatsWriter {

@@ -261,7 +261,7 @@ void resolve_chebyshev_parameters(const SceneDocument& doc, SolverSpec& solver) 
         doc.where("solver.chebyshev_delay"),
         ": solver.chebyshev_delay applies to fixed Chebyshev parameters (set solver.rho and "
         "solver.alpha_max, or solver.chebyshev_parameters = \"fixed\"); the automatic "
-        "parameters start the recurrence at the first iteration"));
+        "parameters run plain iterations through the first check, then the recurrence"));
 }
 
 void check_scene_values(const SceneDocument& doc, const Scene& scene) {

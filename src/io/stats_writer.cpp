@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 constexpr const char* kStatsName = "stats.csv";
 constexpr const char* kHeader =
     "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms,stalled,"
-    "nonfinite_rollbacks,status";
+    "nonfinite_rollbacks,status,lambda_min,lambda_max,rho,spectrum_steps,error_estimate";
 
 struct CloseFile {
   void operator()(std::FILE* file) const { std::fclose(file); }
@@ -111,7 +111,9 @@ void StatsWriter::write(const FrameStats& row) {
       row.frame, ',', format_double(row.sim_time), ',', row.iterations, ',', row.rollbacks, ',',
       format_double(row.alpha), ',', format_double(row.energy), ',', format_ms(row.wall_ms), ',',
       format_ms(row.halo_ms), ',', format_ms(row.allreduce_ms), ',', row.stalled, ',',
-      row.nonfinite_rollbacks, ',', row.status);
+      row.nonfinite_rollbacks, ',', row.status, ',', format_double(row.lambda_min), ',',
+      format_double(row.lambda_max), ',', format_double(row.rho), ',', row.spectrum_steps, ',',
+      format_double(row.error_estimate));
   for (double value : row.extra) {
     line += ',';
     line += format_double(value);

@@ -269,6 +269,22 @@ double hessian_vertex_terms(Exec& exec, int stream, index_t num_dofs, index_t nu
       .value;
 }
 
+// The Rayleigh quotient's parts of a rigid translation along `axis` with
+// the elastic term left out (a translation strains nothing but the held
+// boundary): the sums over owned free dofs of that axis of the vertex terms'
+// curvature m (1/h^2 + c/h) and of the diagonal d.
+template <class Exec, class Real>
+Sum2 translation_sums(Exec& exec, int stream, index_t num_owned, VertexData<Real> vd,
+                      const Real* diag, int axis) {
+  return exec.reduce(
+      stream, num_owned, DESCENT_LAMBDA(index_t v)->Sum2 {
+        const index_t dof = 3 * v + axis;
+        if (held(vd.fixed, dof)) return {0.0, 0.0};
+        return {static_cast<double>(dof_diagonal(vd.terms, vd.mass[v], Real(0), Real(0))),
+                static_cast<double>(diag[dof])};
+      });
+}
+
 // The vector operations of a Lanczos step (solver/spectrum.hpp) on vectors
 // of 3 reals per vertex, D the iteration's diagonal.
 // w = 0 on held dofs.

@@ -13,13 +13,14 @@
 //     alpha <- gamma alpha, restart Chebyshev; each step starts from
 //     alpha_prev / gamma capped at alpha_max (the paper's control).
 //   auto: [a, b] bounds the spectrum of D^-1 H (solver/spectrum.hpp),
-//     estimated by Lanczos at the step's initial guess and reused for
-//     solver.spectrum_interval steps; alpha = 2 / (a + b), rho = (b - a) /
-//     (b + a), the semi-iterative method from the first iteration. A rise
-//     the Chebyshev bound allows (its error is not monotone) is passed
-//     through, keeping the best checked state; a larger rise or a
-//     non-finite energy rolls back to it with b <- b / gamma, and the next
-//     step estimates anew.
+//     estimated by Lanczos at the step's initial guess (the bottom also from
+//     a rigid translation's quotient) and reused for spectrum_interval
+//     steps; alpha = 2 / (a + b), rho = (b - a) / (b + a); plain iterations
+//     through the first check, then the semi-iterative method. A rise the
+//     Chebyshev bound allows (its error is not monotone) is passed through,
+//     keeping the best checked state; a larger rise or a non-finite energy
+//     rolls back to it with b <- b / gamma and restarts the same way, and
+//     the next step estimates anew.
 // With solver.accuracy the step ends at the first check where the energy
 // decrease says the relative error is below the target and the Chebyshev
 // bound agrees (or the decrease alone says it is far below), within
@@ -69,8 +70,10 @@ class ChebyshevDescent final : public Stepper<Real> {
   // The Lanczos start vector into the engine's staging: the velocity (the
   // motion the step continues, rich in the slow modes), else the
   // acceleration of gravity and loads, plus a little deterministic noise by
-  // global id so that every mode is present. One allreduce.
-  void stage_start_vector(const BodyState<Real>& state);
+  // global id so that every mode is present. Returns the smallest Rayleigh
+  // quotient of a rigid translation without its strain (0: none, e.g.
+  // quasi-static). One allreduce for both.
+  double stage_start_vector(const BodyState<Real>& state);
 
   LocalProblem<Real>& problem_;
   SolverSpec spec_;

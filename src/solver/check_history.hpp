@@ -31,7 +31,6 @@ class CheckHistory {
   }
   bool empty() const { return energy_.empty(); }
   double restart_energy() const { return energy_.front(); }
-  int iterations() const { return k_.empty() ? 0 : k_.back(); }
 
   // The relative error (eps_k - eps*) / (eps_initial - eps*) of the last
   // recorded state, for the run's rate phi (solver/spectrum.hpp); NaN when

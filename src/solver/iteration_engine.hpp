@@ -5,6 +5,7 @@
 // an execution (solver/iteration_engine_impl.hpp): the host (OpenMP), always
 // built and the engine of every CPU run, and CUDA, built when a CUDA compiler
 // is found. The stepper does not know which one it drives.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -82,6 +83,11 @@ class IterationEngine {
   // The diagonal at the current iterate, as the next refreshing iteration
   // would compute it (that iteration may then skip its refresh).
   virtual void refresh_diagonal() = 0;
+  // Per axis: the sums over owned free dofs of that axis of the vertex
+  // curvature m (1/h^2 + c/h) and of the diagonal ([2 axis], [2 axis + 1]):
+  // the Rayleigh quotient of a rigid translation without its (boundary)
+  // strain, an estimate of the bottom of the spectrum.
+  virtual std::array<double, 6> translation_sums() = 0;
   // w <- staging().vector on free dofs (0 on held ones), v = v_prev = 0;
   // returns w . D w.
   virtual double lanczos_begin() = 0;

@@ -156,6 +156,17 @@ class EngineImpl final : public IterationEngine<Real> {
     exec_.sync(kMain);
   }
 
+  std::array<double, 6> translation_sums() override {
+    std::array<double, 6> sums{};
+    for (int axis = 0; axis < 3; ++axis) {
+      const Sum2 s =
+          loops::translation_sums(exec_, kMain, owned_, vertex_data(), diag_.data(), axis);
+      sums[2 * axis] = s.value;
+      sums[2 * axis + 1] = s.magnitude;
+    }
+    return sums;
+  }
+
   double lanczos_begin() override {
     if (lanczos_[0].size() == 0)
       for (Array<Real>& a : lanczos_) a = make<Real>(n3_, memory_.vertex_bytes);

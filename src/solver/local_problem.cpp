@@ -1,6 +1,7 @@
 #include "solver/local_problem.hpp"
 
 #include <cmath>
+#include <limits>
 #include <variant>
 
 #include "common/error.hpp"
@@ -11,6 +12,12 @@
 namespace descent {
 
 namespace {
+
+// Epsilon x mu per unit volume, with room: the round-off of an elastic term
+// at rest, a difference of O(mu) quantities (the neo-Hookean boxes of
+// tests/mpi/test_recovery.cpp settle at energies of -0.3 to -1 mu V eps that
+// rise and fall between checks).
+constexpr double kRestRoundoff = 64;
 
 std::uint8_t axes_mask(const std::string& axes) {
   std::uint8_t mask = 0;
@@ -65,6 +72,12 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
     const Real m = static_cast<Real>(scene.material.density) * rest_[t].volume / Real(4);
     for (int k = 0; k < 12; ++k) corner_mass[12 * static_cast<std::size_t>(t) + k] = m;
   }
+  // The body's volume (each tet lies on one rank), for the noise floor.
+  std::vector<double> volume(1, 0.0);
+  for (index_t t = 0; t < nt; ++t) volume[0] += rest_[t].volume;
+  reduction_.sum_in_place(volume);
+  const double mu = scene.material.young / (2 * (1 + scene.material.poisson));
+  energy_noise_floor_ = kRestRoundoff * std::numeric_limits<Real>::epsilon() * mu * volume[0];
   std::vector<Real> mass3(3 * static_cast<std::size_t>(nv));
   HostExec host;
   loops::gather_corners(host, 0, mesh.corner_offsets.data(), mesh.vertex_corners.data(), 0, nv,

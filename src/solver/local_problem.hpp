@@ -81,6 +81,14 @@ class LocalProblem {
   // after the reduction reported a non-finite energy, never per iteration.
   NonFiniteSite find_non_finite(const Real* q, const Real* y, const Real* qt) const;
 
+  // The energy change below which a check sees no change: the round-off of
+  // the elastic terms at rest, where each is a difference of O(mu)
+  // quantities (mu/2 (I1bar - 3), ...) whose value, and so the magnitude
+  // the round-off of a check is scaled by, is 0: 64 eps mu V with V the
+  // body's volume (quasi-static equilibria, near-rest states). The same on
+  // every rank.
+  double energy_noise_floor() const { return energy_noise_floor_; }
+
   // Whether eps itself changes between iterations of one step (model
   // conversion updates its interpolants at every gradient evaluation).
   bool energy_changes_within_step() const { return converting_; }
@@ -121,6 +129,7 @@ class LocalProblem {
   void element_pass(const Real* q, index_t begin, index_t end, bool with_diagonal);
 
   ElasticModel<Real> model_;
+  double energy_noise_floor_ = 0;
   bool converting_ = false;
   Conversion<Real> conversion_{};
   std::vector<Real> interpolant_;  // conversion l per tet (Eq. 17), when converting

@@ -3,6 +3,7 @@
 // share (paper 1, §4.3-4.4; DESIGN §1): the prediction of q_{t+1} that starts
 // the iteration, the Chebyshev weight recurrence, and the energy check that
 // accepts a trial state or sends the method back to the checked one.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -67,7 +68,10 @@ void commit_step(const Real* q, const Real* qt, Real h, double t_next, BodyState
 // travels in one allreduce.
 class EnergyCheck {
  public:
-  explicit EnergyCheck(bool reevaluate) : reevaluate_(reevaluate) {}
+  // `noise_floor`: an energy change below it is no change either
+  // (LocalProblem::energy_noise_floor).
+  EnergyCheck(bool reevaluate, double noise_floor)
+      : reevaluate_(reevaluate), noise_floor_(noise_floor) {}
 
   // Whether the caller must evaluate the checked state's energy beside the
   // trial's at every check (or only the initial guess's, once, up front).
@@ -101,7 +105,8 @@ class EnergyCheck {
     // A rise within the round-off of the energy's evaluation is no rise: near
     // the minimum it is noise, and reading it as a rise would shrink alpha
     // for nothing.
-    const double tolerance = energy_roundoff<Real>(sums.energy[0].magnitude);
+    const double tolerance =
+        std::max(energy_roundoff<Real>(sums.energy[0].magnitude), noise_floor_);
     stats.energy_tolerance = tolerance;
     if (!sums.finite[0]) {
       ++stats.nonfinite_rollbacks;
@@ -129,6 +134,7 @@ class EnergyCheck {
 
  private:
   bool reevaluate_;
+  double noise_floor_;
   bool first_ = true;
   double checked_energy_ = 0;
   bool checked_finite_ = true;

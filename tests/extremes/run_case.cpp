@@ -159,12 +159,15 @@ Result run_case(MPI_Comm comm, const Case& c, int iterations, const std::string&
       // A non-finite guess is beaten by any finite state.
       if (sums[5] == 0) {
         // The solver accepts a check whose energy exceeds the last accepted
-        // one by at most the tolerance, so over a step the bound is the sum
-        // over its accepted checks (checks minus rollbacks).
+        // one by at most the tolerance (its round-off, at least the noise
+        // floor at rest), so over a step the bound is the sum over its
+        // accepted checks (checks minus rollbacks).
         const int interval = scene.solver.check_interval;
         const int checks = (step.iterations + interval - 1) / interval;
         const int accepted = std::max(1, checks - step.rollbacks);
-        const double tolerance = accepted * 1024 * std::numeric_limits<Real>::epsilon() * sums[1];
+        const double tolerance =
+            accepted * std::max(1024 * std::numeric_limits<Real>::epsilon() * sums[1],
+                                problem.energy_noise_floor());
         const double rise =
             sums[4] > 0 ? std::numeric_limits<double>::infinity() : sums[0] - sums[2];
         const double ratio = tolerance > 0 ? rise / tolerance : (rise > 0 ? 1e300 : 0.0);

@@ -366,7 +366,12 @@ TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
        1,
        {1e-300, 7.0},
        3,
-       "stalled"}};
+       "stalled",
+       2.3e-4,
+       2.86,
+       0.99983922,
+       20,
+       0.0125}};
   std::string path;
   {
     StatsWriter stats(MPI_COMM_WORLD, dir.path().string(), {"load0_disp_y", "converted"});
@@ -380,11 +385,12 @@ TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
     std::getline(csv, line);
     EXPECT_EQ(line,
               "frame,sim_time,iterations,rollbacks,alpha,energy,wall_ms,halo_ms,allreduce_ms,"
-              "stalled,nonfinite_rollbacks,status,load0_disp_y,converted");
+              "stalled,nonfinite_rollbacks,status,lambda_min,lambda_max,rho,spectrum_steps,"
+              "error_estimate,load0_disp_y,converted");
     for (const FrameStats& row : rows) {
       ASSERT_TRUE(std::getline(csv, line));
       const auto fields = split(line, ',');
-      ASSERT_EQ(fields.size(), 14u) << line;
+      ASSERT_EQ(fields.size(), 19u) << line;
       EXPECT_EQ(std::stoi(fields[0]), row.frame);
       EXPECT_EQ(std::stod(fields[1]), row.sim_time) << "exact round trip";
       EXPECT_EQ(std::stoi(fields[2]), row.iterations);
@@ -397,8 +403,13 @@ TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
       EXPECT_EQ(std::stoi(fields[9]), row.stalled);
       EXPECT_EQ(std::stoi(fields[10]), row.nonfinite_rollbacks);
       EXPECT_EQ(fields[11], row.status);
-      EXPECT_EQ(std::stod(fields[12]), row.extra[0]) << "exact round trip";
-      EXPECT_EQ(std::stod(fields[13]), row.extra[1]) << "exact round trip";
+      EXPECT_EQ(std::stod(fields[12]), row.lambda_min) << "exact round trip";
+      EXPECT_EQ(std::stod(fields[13]), row.lambda_max) << "exact round trip";
+      EXPECT_EQ(std::stod(fields[14]), row.rho) << "exact round trip";
+      EXPECT_EQ(std::stoi(fields[15]), row.spectrum_steps);
+      EXPECT_EQ(std::stod(fields[16]), row.error_estimate) << "exact round trip";
+      EXPECT_EQ(std::stod(fields[17]), row.extra[0]) << "exact round trip";
+      EXPECT_EQ(std::stod(fields[18]), row.extra[1]) << "exact round trip";
     }
     EXPECT_FALSE(std::getline(csv, line)) << "one row per write: " << line;
   }

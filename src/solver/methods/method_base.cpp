@@ -29,7 +29,7 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
 
   StepStats stats;
   alpha_ = std::min(spec_.alpha_max, alpha_ / spec_.gamma);
-  check_ = EnergyCheck(problem_.energy_changes_within_step());
+  check_ = EnergyCheck(problem_.energy_changes_within_step(), problem_.energy_noise_floor());
   if (!own_guess_) {
     initial_local_energy_ =
         check_.reevaluate() ? Energy{} : problem_.local_energy(q_.data(), y_.data(), qt_.data());

@@ -66,7 +66,7 @@ class MethodBase : public Stepper<Real> {
   const Real* step_velocity_ = nullptr;
   bool own_guess_;
   // Step-control state of the current step.
-  EnergyCheck check_{false};
+  EnergyCheck check_{false, 0.0};
   Energy initial_local_energy_{};
 };
 
