@@ -11,6 +11,7 @@
 #include <random>
 
 #include "kernels/arap.hpp"
+#include "kernels/conversion.hpp"
 #include "kernels/corotated.hpp"
 #include "kernels/element.hpp"
 #include "kernels/element_hessian_product.hpp"
@@ -75,6 +76,65 @@ void check_model(const Model& model, const char* name) {
               worst_fd, worst_matrix);
   EXPECT_LE(worst_fd, 1e-6) << name;
   EXPECT_LE(worst_matrix, 1e-12) << name;
+}
+
+// The hybrid product of model conversion (kernels/conversion.hpp) at a
+// fixed interpolant l: central differences of the blended gradient
+// (1 - l) grad Psi + l grad Psi_arap, and at l = 0 and 1 the plain products.
+TEST(ConvertedHessianProduct, IsTheProductOfTheBlendAtAFixedInterpolant) {
+  Rng rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const NeoHookean<double> model = NeoHookean<double>::from_young_poisson(1e6, 0.3);
+  const Conversion<double> conv{0.05, 0.15, 0.05, Arap<double>::from_young_poisson(1e6, 0.3)};
+  double worst = 0, worst_ends = 0;
+  for (double l : {0.0, 0.3, 0.7, 1.0}) {
+    for (int sample = 0; sample < 200; ++sample) {
+      const testing::ElementCase e = random_element(rng, 0.3);
+      Vec3<double> p[4], hp[4];
+      for (auto& v : p) v = {u(rng), u(rng), u(rng)};
+      converted_hessian_product(model, conv, l, e.rest, e.x, p, hp);
+      auto blended_gradient = [&](double sign, Vec3<double> g[4]) {
+        const double step = 1e-6;
+        TetCorners<double> x = e.x;
+        for (int a = 0; a < 4; ++a)
+          x.x[a] = {e.x.x[a].x + sign * step * p[a].x, e.x.x[a].y + sign * step * p[a].y,
+                    e.x.x[a].z + sign * step * p[a].z};
+        Vec3<double> gm[4], ga[4];
+        element_gradient(model, e.rest, x, gm);
+        element_gradient(conv.arap, e.rest, x, ga);
+        for (int a = 0; a < 4; ++a)
+          g[a] = {(1 - l) * gm[a].x + l * ga[a].x, (1 - l) * gm[a].y + l * ga[a].y,
+                  (1 - l) * gm[a].z + l * ga[a].z};
+        return step;
+      };
+      Vec3<double> gp[4], gm[4];
+      const double step = blended_gradient(+1, gp);
+      blended_gradient(-1, gm);
+      // At the ends the blend is one model's product, bit for bit.
+      Vec3<double> plain[4] = {};
+      if (l == 0.0) element_hessian_product(model, e.rest, e.x, p, plain);
+      if (l == 1.0) element_hessian_product(conv.arap, e.rest, e.x, p, plain);
+      double scale = 0, err = 0, err_end = 0;
+      for (int a = 0; a < 4; ++a) {
+        const double got[3] = {hp[a].x, hp[a].y, hp[a].z};
+        const double fd[3] = {(gp[a].x - gm[a].x) / (2 * step), (gp[a].y - gm[a].y) / (2 * step),
+                              (gp[a].z - gm[a].z) / (2 * step)};
+        const double base[3] = {plain[a].x, plain[a].y, plain[a].z};
+        for (int i = 0; i < 3; ++i) {
+          scale = std::max(scale, std::abs(fd[i]));
+          err = std::max(err, std::abs(got[i] - fd[i]));
+          if (l == 0.0 || l == 1.0) err_end = std::max(err_end, std::abs(got[i] - base[i]));
+        }
+      }
+      worst = std::max(worst, err / scale);
+      worst_ends = std::max(worst_ends, err_end / scale);
+    }
+  }
+  std::printf(
+      "converted H p vs FD of the blended gradient: %.2e; at l = 0, 1 vs one model's: %.2e\n",
+      worst, worst_ends);
+  EXPECT_LE(worst, 1e-6);
+  EXPECT_EQ(worst_ends, 0.0);
 }
 
 TEST(ElementHessianProduct, MatchesFiniteDifferencesAndTheMatrix) {

@@ -1,0 +1,119 @@
+// The arithmetic of the automatic parameters (solver/spectrum.hpp,
+// solver/check_history.hpp), by hand-checkable numbers: alpha and rho from
+// [a, b], the Chebyshev bound against T_k evaluated by its recurrence, the
+// iteration count that meets a tolerance, the tridiagonal's extremes against
+// a dense solver, and the relative error read off a geometric energy decay.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "solver/check_history.hpp"
+#include "solver/spectrum.hpp"
+
+namespace descent {
+namespace {
+
+// T_k(x) by its three-term recurrence (x >= 1: no cancellation).
+double chebyshev_t(int k, double x) {
+  double t0 = 1, t1 = x;
+  if (k == 0) return t0;
+  for (int j = 1; j < k; ++j) {
+    const double t2 = 2 * x * t1 - t0;
+    t0 = t1;
+    t1 = t2;
+  }
+  return t1;
+}
+
+TEST(ChebyshevBound, ParametersFromTheInterval) {
+  // [1, 3]: alpha 2 / 4, rho 2 / 4, phi = acosh(2).
+  const ChebyshevParameters p = chebyshev_parameters(1.0, 3.0);
+  EXPECT_DOUBLE_EQ(p.alpha, 0.5);
+  EXPECT_DOUBLE_EQ(p.rho, 0.5);
+  EXPECT_NEAR(p.phi, std::acosh(2.0), 1e-15);
+  EXPECT_NEAR(chebyshev_rate(0.5), std::acosh(2.0), 1e-15);
+  // kappa 1e4: phi = 2 atanh(1e-2), the same rate from rho.
+  const ChebyshevParameters q = chebyshev_parameters(2.5e-4, 2.5);
+  EXPECT_NEAR(q.phi, 2 * std::atanh(1e-2), 1e-15);
+  EXPECT_NEAR(chebyshev_rate(q.rho), q.phi, 1e-10);
+  EXPECT_THROW(chebyshev_parameters(0.0, 1.0), std::exception);
+  EXPECT_THROW(chebyshev_parameters(2.0, 1.0), std::exception);
+}
+
+TEST(ChebyshevBound, EqualsTheSquaredInverseOfTk) {
+  for (double rho : {0.5, 0.9, 0.999, 0.99998}) {
+    const double phi = chebyshev_rate(rho);
+    for (int k : {0, 1, 2, 7, 40, 96}) {
+      // The reference itself: 1/rho rounded by 1e-16 moves T_k(1/rho) by up
+      // to k / sinh(phi) of that, 1e-12 at rho = 0.99998, k = 96.
+      const double t = chebyshev_t(k, 1 / rho);
+      EXPECT_NEAR(chebyshev_error_bound(phi, k), 1 / (t * t), 1e-11 / (t * t))
+          << "rho " << rho << " k " << k;
+    }
+  }
+  // Far out the bound underflows to 0, never to NaN.
+  EXPECT_EQ(chebyshev_error_bound(chebyshev_rate(0.5), 100000), 0.0);
+}
+
+TEST(ChebyshevBound, IterationsMeetTheTolerance) {
+  for (double kappa : {10.0, 1e4, 1e6}) {
+    const double phi = chebyshev_parameters(1.0, kappa).phi;
+    for (double tol : {1e-1, 1e-3, 1e-6}) {
+      const int k = chebyshev_iterations_for(phi, tol);
+      EXPECT_LE(chebyshev_error_bound(phi, k), tol) << kappa << " " << tol;
+      EXPECT_GT(chebyshev_error_bound(phi, k - 1), tol) << kappa << " " << tol;
+    }
+  }
+  // The 41K helix: kappa 1.1e4 needs 157 iterations for 1e-2.
+  EXPECT_NEAR(chebyshev_iterations_for(chebyshev_parameters(1.0, 1.1e4).phi, 1e-2), 157, 1);
+  EXPECT_EQ(chebyshev_iterations_for(1.0, 1.0), 0);
+}
+
+TEST(ChebyshevBound, TridiagonalExtremesMatchADenseSolver) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.1, 2.0);
+  for (int m : {1, 2, 5, 30}) {
+    std::vector<double> alpha(m), beta(m - 1);
+    Eigen::MatrixXd t = Eigen::MatrixXd::Zero(m, m);
+    for (int i = 0; i < m; ++i) t(i, i) = alpha[i] = u(rng);
+    for (int i = 0; i + 1 < m; ++i) t(i, i + 1) = t(i + 1, i) = beta[i] = u(rng);
+    const Eigen::VectorXd values = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(t).eigenvalues();
+    const RitzExtremes r = tridiagonal_extremes(alpha, beta);
+    EXPECT_NEAR(r.lowest, values.minCoeff(), 1e-13) << m;
+    EXPECT_NEAR(r.highest, values.maxCoeff(), 1e-13) << m;
+  }
+}
+
+TEST(CheckHistory, ReadsTheRelativeErrorOfAGeometricDecay) {
+  // eps_k = eps* + 100 r^j at checks j = 0, 1, ...: the remaining error is
+  // known exactly once the decay is geometric.
+  const double star = 5.0, r = 0.6;
+  const double slow_bound = chebyshev_rate(0.001);  // a bound faster than r: r decides
+  CheckHistory h;
+  h.restart(star + 100);
+  EXPECT_TRUE(std::isnan(h.relative_error(star + 100, slow_bound)));
+  for (int j = 1; j <= 6; ++j) h.record(8 * j, star + 100 * std::pow(r, j));
+  EXPECT_NEAR(h.relative_error(star + 100, slow_bound), std::pow(r, 6), 1e-12);
+  // A bound slower than the observed decay wins: the estimate grows.
+  const double fast_phi = chebyshev_rate(0.9999);
+  EXPECT_GT(h.relative_error(star + 100, fast_phi), std::pow(r, 6));
+}
+
+TEST(CheckHistory, NoEstimateWhileTheEnergyDoesNotFall) {
+  const double phi = chebyshev_rate(0.5);
+  CheckHistory h;
+  h.restart(10);
+  h.record(8, 9);
+  h.record(16, 9.5);  // a rise
+  EXPECT_TRUE(std::isnan(h.relative_error(10, phi)));
+  h.record(24, 8);
+  EXPECT_TRUE(std::isnan(h.relative_error(10, phi)));  // the last three do not fall
+  h.record(40, 7);                                     // uneven spacing
+  EXPECT_TRUE(std::isnan(h.relative_error(10, phi)));
+}
+
+}  // namespace
+}  // namespace descent
