@@ -1,6 +1,7 @@
 #include "app/tune_command.hpp"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -15,36 +16,85 @@ namespace descent {
 
 namespace {
 
-struct Phases {
-  std::vector<double> rho;
-  std::vector<int> lengths;  // of all phases but the last
+// The first and largest steps: a factor 10 on 1 - rho, 2 on alpha.
+const double kLargestGapStep = std::log(10.0);
+const double kLargestAlphaStep = std::log(2.0);
+
+// A candidate: per phase x_p = log(1 - rho_p), y = log(alpha_max), and the
+// lengths of all phases but the last.
+struct Candidate {
+  std::vector<double> log_gap;
+  double log_alpha = 0;
+  std::vector<int> lengths;
 };
 
-SolverSpec with_phases(SolverSpec spec, const Phases& p) {
+SolverSpec fixed_spec(SolverSpec spec, const Candidate& c) {
   spec.method = "chebyshev";
-  spec.phase_rho = p.rho;
-  spec.phase_lengths = p.lengths;
+  spec.chebyshev_parameters = "fixed";
+  spec.accuracy = 0;
+  spec.phase_rho.clear();
+  for (double x : c.log_gap) spec.phase_rho.push_back(1 - std::exp(x));
+  spec.phase_lengths = c.lengths;
+  spec.alpha_max = std::exp(c.log_alpha);
+  spec.alpha_min = std::min(spec.alpha_min, spec.alpha_max);
   return spec;
 }
 
-std::string describe(const Phases& p) {
+std::string describe(const Candidate& c) {
   std::ostringstream s;
-  s.precision(6);
-  s << "phase_rho = [";
-  for (std::size_t i = 0; i < p.rho.size(); ++i) s << (i ? ", " : "") << p.rho[i];
+  s.precision(8);
+  s << "chebyshev_parameters = \"fixed\"\nphase_rho = [";
+  for (std::size_t i = 0; i < c.log_gap.size(); ++i)
+    s << (i ? ", " : "") << 1 - std::exp(c.log_gap[i]);
   s << "]\nphase_lengths = [";
-  for (std::size_t i = 0; i < p.lengths.size(); ++i) s << (i ? ", " : "") << p.lengths[i];
-  s << "]";
+  for (std::size_t i = 0; i < c.lengths.size(); ++i) s << (i ? ", " : "") << c.lengths[i];
+  s << "]\nalpha_max = " << std::exp(c.log_alpha);
   return s.str();
+}
+
+// Neighbours of `c` at steps (dx in log(1 - rho), dy in log(alpha)) and
+// boundary shifts of `shift`, valid for a budget of `budget` iterations.
+std::vector<Candidate> neighbours(const Candidate& c, double dx, double dy, int shift, int budget) {
+  std::vector<Candidate> out;
+  for (std::size_t p = 0; p < c.log_gap.size(); ++p)
+    for (double sign : {+1.0, -1.0}) {
+      Candidate n = c;
+      n.log_gap[p] += sign * dx;
+      // rho in (0, 1) and 1 - rho resolvable in double.
+      if (n.log_gap[p] < 0 && n.log_gap[p] > std::log(1e-12)) out.push_back(n);
+    }
+  for (double sign : {+1.0, -1.0}) {
+    Candidate n = c;
+    n.log_alpha += sign * dy;
+    out.push_back(n);
+  }
+  for (std::size_t b = 0; b < c.lengths.size(); ++b)
+    for (int sign : {+1, -1}) {
+      Candidate n = c;
+      // Moving boundary b shifts iterations between phases b and b + 1.
+      n.lengths[b] += sign * shift;
+      if (b + 1 < n.lengths.size()) n.lengths[b + 1] -= sign * shift;
+      int total = 0;
+      bool valid = true;
+      for (int l : n.lengths) {
+        valid = valid && l >= 1;
+        total += l;
+      }
+      if (valid && total < budget) out.push_back(n);
+    }
+  return out;
 }
 
 }  // namespace
 
 CLI::App* add_tune_subcommand(CLI::App& app, TuneOptions& options) {
   CLI::App* tune = app.add_subcommand(
-      "tune", "Tune Chebyshev phases and their rho by pre-simulation (paper 1, Eq. 9)");
+      "tune",
+      "Tune Chebyshev's fixed phases, rho and alpha by pre-simulation (paper 1, Eq. 9, as a "
+      "compass search in log(1 - rho))");
   tune->add_option("--phases", options.phases, "Number of phases P")->check(CLI::PositiveNumber);
-  tune->add_option("--epsilon", options.epsilon, "Eq. 9's step for rho (default 0.05)")
+  tune->add_option("--epsilon", options.epsilon,
+                   "Smallest step of log(1 - rho) and log(alpha) (Eq. 9's eps; default 0.05)")
       ->check(CLI::Range(1e-6, 0.5));
   tune->add_option("--shift", options.shift, "Iterations a phase boundary moves per trial")
       ->check(CLI::PositiveNumber);
@@ -66,60 +116,52 @@ int run_tune(MPI_Comm comm, const Scene& scene, const TuneOptions& options) {
   Simulation<double> sim(comm, scene, mesh);
   for (int f = 0; f < options.warmup; ++f) sim.step();
   std::vector<BodyState<double>> states;
+  std::vector<StepMemory> memories;
   for (int f = 0; f < options.frames; ++f) {
     states.push_back(sim.state());
+    memories.push_back(sim.stepper().memory());
     sim.step();
   }
   const int budget = scene.solver.iterations;
-  auto cost = [&](const Phases& p) {
-    const SolverSpec spec = with_phases(scene.solver, p);
+  // Sum of eps after one step from each state; +inf when a step fails.
+  auto cost_of = [&](const SolverSpec& spec, bool automatic) {
     double sum = 0;
-    for (const BodyState<double>& s : states) {
+    for (std::size_t s = 0; s < states.size(); ++s) {
       std::unique_ptr<Stepper<double>> stepper = make_stepper(sim.problem(), spec);
-      BodyState<double> copy = s;
+      // The automatic parameters as a run has them there (the warm-up's
+      // estimate); fixed candidates start at their alpha_max, as a tuned
+      // run's first step does.
+      if (automatic) stepper->set_memory(memories[s]);
+      BodyState<double> copy = states[s];
       const StepStats stats = stepper->step(copy);
-      if (!std::isfinite(stats.energy)) return std::numeric_limits<double>::infinity();
+      if (!stats.finite || !std::isfinite(stats.energy))
+        return std::numeric_limits<double>::infinity();
       sum += stats.energy;
     }
     return sum;
   };
 
-  // Start: P equal phases at the scene's rho.
-  Phases best;
+  // Start: P equal phases at the scene's rho (or 0.96, the paper's, when the
+  // scene's parameters are automatic) and its alpha_max.
+  const double rho0 = scene.solver.chebyshev_parameters == "fixed" ? scene.solver.rho : 0.96;
+  Candidate best;
   const int length = budget / options.phases;
   for (int p = 0; p < options.phases; ++p) {
-    best.rho.push_back(scene.solver.rho);
+    best.log_gap.push_back(std::log(1 - rho0));
     if (p + 1 < options.phases) best.lengths.push_back(length);
   }
-  double best_cost = cost(best);
+  best.log_alpha = std::log(scene.solver.alpha_max);
+  double best_cost = cost_of(fixed_spec(scene.solver, best), false);
   const double start_cost = best_cost;
   int evaluations = 1;
-  for (int cycle = 0; cycle < options.max_cycles; ++cycle) {
-    std::vector<Phases> candidates;
-    for (std::size_t p = 0; p < best.rho.size(); ++p)
-      for (double sign : {+1.0, -1.0}) {
-        Phases c = best;
-        c.rho[p] = 1 - (1 + sign * options.epsilon) * (1 - c.rho[p]);  // Eq. 9
-        if (c.rho[p] >= 0 && c.rho[p] < 1) candidates.push_back(c);
-      }
-    for (std::size_t b = 0; b < best.lengths.size(); ++b)
-      for (int sign : {+1, -1}) {
-        Phases c = best;
-        // Moving boundary b shifts iterations between phases b and b + 1.
-        c.lengths[b] += sign * options.shift;
-        if (b + 1 < c.lengths.size()) c.lengths[b + 1] -= sign * options.shift;
-        int total = 0;
-        bool valid = c.lengths[b] >= 1;
-        for (int l : c.lengths) {
-          valid = valid && l >= 1;
-          total += l;
-        }
-        if (valid && total < budget) candidates.push_back(c);
-      }
-    const Phases* chosen = nullptr;
+  double dx = kLargestGapStep, dy = kLargestAlphaStep;
+  int cycle = 0;
+  for (; cycle < options.max_cycles && (dx >= options.epsilon || dy >= options.epsilon); ++cycle) {
+    const Candidate* chosen = nullptr;
     double chosen_cost = best_cost;
-    for (const Phases& c : candidates) {
-      const double value = cost(c);
+    const std::vector<Candidate> candidates = neighbours(best, dx, dy, options.shift, budget);
+    for (const Candidate& c : candidates) {
+      const double value = cost_of(fixed_spec(scene.solver, c), false);
       ++evaluations;
       // A decrease within round-off of eps is no decrease.
       if (value < chosen_cost - 1e-12 * std::abs(chosen_cost)) {
@@ -127,24 +169,53 @@ int run_tune(MPI_Comm comm, const Scene& scene, const TuneOptions& options) {
         chosen = &c;
       }
     }
-    if (!chosen) break;
+    if (!chosen) {  // nothing better at these steps: look closer
+      dx /= 2;
+      dy /= 2;
+      continue;
+    }
     best = *chosen;
     best_cost = chosen_cost;
+    dx = std::min(2 * dx, kLargestGapStep);
+    dy = std::min(2 * dy, kLargestAlphaStep);
     if (rank == 0 && !options.quiet)
       std::fprintf(stderr, "tune: cycle %d: cost %.12e (start %.12e)\n  %s\n", cycle + 1, best_cost,
                    start_cost, describe(best).c_str());
   }
+
+  // The automatic parameters at the same states, for comparison.
+  SolverSpec automatic = scene.solver;
+  automatic.method = "chebyshev";
+  automatic.chebyshev_parameters = "auto";
+  automatic.accuracy = 0;
+  automatic.phase_rho.clear();
+  automatic.phase_lengths.clear();
+  const double automatic_cost = cost_of(automatic, true);
+  const StepMemory estimate = memories.front();
+  std::string comparison = "automatic parameters: cost " + std::to_string(automatic_cost);
+  if (estimate.lambda_max > 0) {
+    const double a = estimate.lambda_min, b = estimate.lambda_max;
+    std::ostringstream s;
+    s.precision(8);
+    s << "automatic parameters: spectrum [" << a << ", " << b << "], rho " << (b - a) / (b + a)
+      << ", alpha " << 2 / (a + b) << ", cost " << automatic_cost;
+    comparison = s.str();
+  }
+
   if (rank == 0) {
     std::ofstream out(options.out_file);
-    out << "# descent tune: " << options.phases << " phases, Eq. 9 with epsilon " << options.epsilon
-        << ", " << evaluations << " pre-simulation evaluations over " << options.frames
+    out.precision(12);
+    out << "# descent tune: " << options.phases << " phase(s), compass search in log(1 - rho) "
+        << "and log(alpha) down to steps of " << options.epsilon << ", " << cycle << " cycles, "
+        << evaluations << " pre-simulation evaluations over " << options.frames
         << " state(s) after " << options.warmup << " frames\n"
-        << "[solver]\n"
+        << "# cost (sum of eps after one step): start " << start_cost << ", tuned " << best_cost
+        << "\n# " << comparison << "\n[solver]\n"
         << describe(best) << "\n";
-    std::printf("[solver]\n%s\n", describe(best).c_str());
+    std::printf("[solver]\n%s\n# %s\n", describe(best).c_str(), comparison.c_str());
     if (!options.quiet)
-      std::fprintf(stderr, "tune: wrote %s (%d evaluations; cost %.12e -> %.12e)\n",
-                   options.out_file.c_str(), evaluations, start_cost, best_cost);
+      std::fprintf(stderr, "tune: wrote %s (%d cycles, %d evaluations; cost %.12e -> %.12e)\n",
+                   options.out_file.c_str(), cycle, evaluations, start_cost, best_cost);
   }
   return 0;
 }

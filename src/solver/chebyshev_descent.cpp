@@ -216,9 +216,9 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     memory_.alpha = std::min(spec_.alpha_max, memory_.alpha / spec_.gamma);
     schedule.delay = spec_.chebyshev_delay;
     schedule.alpha = memory_.alpha;
-    if (spec_.phase_rho.size() <= 1 && spec_.rho > 0) {
+    if (spec_.phase_rho.size() <= 1) {
       schedule.rho = spec_.phase_rho.empty() ? spec_.rho : spec_.phase_rho.front();
-      schedule.phi = chebyshev_rate(schedule.rho);
+      if (schedule.rho > 0 && schedule.rho < 1) schedule.phi = chebyshev_rate(schedule.rho);
     }
   }
   // The accuracy target: no stop before the bound's count since the
