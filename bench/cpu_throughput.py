@@ -7,6 +7,14 @@ with the machine, the commands and every sample, in a Markdown table.
 
   python3 bench/cpu_throughput.py                      # 82k helix, 96 iterations
   python3 bench/cpu_throughput.py --preset 316k --runs 5 --configs 1x1 2x1
+  python3 bench/cpu_throughput.py --configs 1x1 --compare /path/to/old/descent
+
+--parameters fixed (default) runs the paper's fixed Chebyshev parameters
+(rho 0.96, 10 plain iterations, alpha_max 1), auto the automatic ones (their
+spectrum estimates are in the step time); solver.accuracy is 0 either way.
+--compare runs an earlier build with its own defaults (before the automatic
+parameters: the same fixed method) interleaved with this one, run by run,
+so the ratio is measured on one machine in one sitting.
 """
 import argparse
 import os
@@ -31,13 +39,23 @@ def cpu_model():
     return platform.processor() or "unknown"
 
 
-def run_once(binary, ranks, threads, preset, iterations, frames, out_dir):
+PARAMETER_KEYS = {
+    "fixed": ['solver.chebyshev_parameters="fixed"', "solver.rho=0.96", "solver.chebyshev_delay=10",
+              "solver.alpha_max=1", "solver.accuracy=0"],
+    "auto": ['solver.chebyshev_parameters="auto"', "solver.accuracy=0"],
+    "legacy": [],  # an earlier build: its defaults
+}
+
+
+def run_once(binary, ranks, threads, preset, iterations, frames, out_dir, parameters):
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), OMP_PROC_BIND="false",
                OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none", str(binary), "run", "--overwrite",
            "--set", f'mesh.helix.preset="{preset}"', "--set", f"solver.iterations={iterations}",
            "--set", f"time.frames={frames}", "--set", f"output.every={frames + 1}",
            "--out", str(out_dir)]
+    for key in PARAMETER_KEYS[parameters]:
+        cmd += ["--set", key]
     text = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
     match = re.search(r"([0-9.]+) ns per tet-iteration", text)
     if not match:
@@ -58,38 +76,53 @@ def main():
     parser.add_argument("--output", type=Path,
                         default=ROOT / "bench/results/cpu_throughput.md",
                         help="Markdown file for the table")
+    parser.add_argument("--parameters", choices=["fixed", "auto"], default="fixed")
+    parser.add_argument("--compare", type=Path, help="an earlier build, run interleaved")
     args = parser.parse_args()
 
     out_dir = ROOT / "out/bench"
+    builds = [("this build", args.binary, args.parameters)]
+    if args.compare:
+        builds.append(("--compare", args.compare, "legacy"))
     rows = []
-    command = ""
+    commands = {}
     for config in args.configs:
         ranks, threads = (int(x) for x in config.split("x"))
-        samples = []
+        samples = {name: [] for name, _, _ in builds}
         for run in range(args.runs):
-            value, command = run_once(args.binary, ranks, threads, args.preset, args.iterations,
-                                      args.frames, out_dir)
-            samples.append(value)
-            print(f"{config}: run {run + 1}/{args.runs}: {value:.1f} ns per tet-iteration", flush=True)
-        rows.append((ranks, threads, statistics.median(samples), samples))
+            for name, binary, parameters in builds:
+                value, commands[name] = run_once(binary, ranks, threads, args.preset,
+                                                 args.iterations, args.frames, out_dir, parameters)
+                samples[name].append(value)
+                print(f"{config} {name}: run {run + 1}/{args.runs}: {value:.1f} ns per tet-iteration",
+                      flush=True)
+        for name, _, _ in builds:
+            rows.append((name, ranks, threads, statistics.median(samples[name]), samples[name]))
+    command = commands["this build"]
 
-    base = rows[0][2]
+    base = rows[0][3]
     lines = [
-        f"# CPU throughput: double helix {args.preset}, {args.iterations} iterations per step",
+        f"# CPU throughput: double helix {args.preset}, {args.iterations} iterations per step, "
+        f"{args.parameters} Chebyshev parameters",
         "",
         f"- date: {datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}",
         f"- machine: {cpu_model()}, {os.cpu_count()} logical cores, {platform.system()} {platform.release()}",
         f"- GPU: none used (CPU backend)",
         f"- command (per configuration, ranks and OMP_NUM_THREADS varied): `{command}`",
         f"- figure: step wall time / (tets x iterations), {args.frames} frames per run, median of {args.runs} runs",
-        "",
-        "| ranks | threads/rank | cores | ns per tet-iteration (median) | ns x cores | efficiency vs first row | samples |",
-        "| --- | --- | --- | --- | --- | --- | --- |",
     ]
-    for ranks, threads, median, samples in rows:
+    if args.compare:
+        lines.append(f"- --compare: `{commands['--compare']}` (an earlier build, its own defaults), "
+                     "run alternately with this build, run by run")
+    lines += [
+        "",
+        "| build | ranks | threads/rank | cores | ns per tet-iteration (median) | ns x cores | vs first row | samples |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for name, ranks, threads, median, samples in rows:
         cores = ranks * threads
-        efficiency = base * rows[0][0] * rows[0][1] / (median * cores)
-        lines.append(f"| {ranks} | {threads} | {cores} | {median:.1f} | {median * cores:.1f} | "
+        efficiency = base * rows[0][1] * rows[0][2] / (median * cores)
+        lines.append(f"| {name} | {ranks} | {threads} | {cores} | {median:.1f} | {median * cores:.1f} | "
                      f"{100 * efficiency:.0f}% | {', '.join(f'{s:.1f}' for s in samples)} |")
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.write_text("\n".join(lines) + "\n")

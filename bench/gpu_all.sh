@@ -54,20 +54,21 @@ for step in "${steps[@]}"; do
         -DCMAKE_CUDA_COMPILER="$CUDACXX" \
         -DCMAKE_CUDA_ARCHITECTURES="${DESCENT_CUDA_ARCHITECTURES:-90}"
       cmake --build "$build" -j"$(nproc)" --target descent descent_kernel_bench \
-        test_cuda_backend test_device_stepper
+        test_cuda_backend test_engine_assembly
       "$build/src/app/descent" --version
       ;;
     test)
-      # The gpu label (CUDA vs CPU, ranks sharing the device, graphs) and the
-      # host-emulated device stepper; the full log beside the summary.
+      # The gpu label (CUDA vs CPU, ranks sharing the device, graphs, the
+      # spectrum estimate) and the engine's assemblies on the host; the full
+      # log beside the summary.
       log=$results/gpu_tests.log
       status=0
       ctest --test-dir "$build" -L gpu -E sanitizer -V >"$log" 2>&1 || status=1
-      ctest --test-dir "$build" -R test_device_stepper --output-on-failure >>"$log" 2>&1 || status=1
+      ctest --test-dir "$build" -R test_engine_assembly --output-on-failure >>"$log" 2>&1 || status=1
       {
         header "CUDA backend checks"
         echo '```'
-        grep -E '^[0-9]+: \[ (gpu|device)|Skipped|Passed|Failed|tests passed' "$log" | sed "s|$PWD/||g" || true
+        grep -E '^[0-9]+: \[ (gpu|scatter|engine)|Skipped|Passed|Failed|tests passed' "$log" | sed "s|$PWD/||g" || true
         echo '```'
       } | tee "$checks"
       [ $status = 0 ] || { echo "gpu_all: GPU tests failed; see $log" >&2; exit 1; }

@@ -11,9 +11,9 @@ if [ ! -f "$mesh" ]; then
 fi
 out="$RESULTS/methods_armadillo"
 mkdir -p "$out"
-cmd=($MPIEXEC -n 1 "$DESCENT" study jobs/study/armadillo.toml --warmup 10 --repeats 3
-     --case chebyshev --case gd --case jacobi_gd --case ncg --case lbfgs --case nesterov
-     --case newton --study-out "$out")
+cmd=($MPIEXEC -n 1 "$DESCENT" study jobs/study/armadillo.toml "${TRUTH[@]}" --warmup 10 --repeats 3
+     --case chebyshev --case "chebyshev_fixed:$FIXED" --case gd --case jacobi_gd --case ncg
+     --case lbfgs --case nesterov --case newton --study-out "$out")
 machine "${cmd[*]}" > "$out/machine.txt"
 "${cmd[@]}" 2> >(tee "$out/progress.log" >&2)
 $PYTHON tools/plot_study.py "$out" --title "Fig. 2c: methods, armadillo (55K tets)" --name fig2c

@@ -10,7 +10,23 @@ RESULTS=${RESULTS:-bench/results/study}
 MPIEXEC=${MPIEXEC:-mpiexec --oversubscribe}
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
 PYTHON=/usr/bin/python3  # Debian's, with matplotlib
-helix=(jobs/helix.toml --set "mesh.helix.preset=\"${PRESET}\"")
+# The paper's budget: 96 iterations a step, no accuracy target (the main
+# job, jobs/helix.toml, runs each step to 1e-2).
+helix=(jobs/helix.toml --set "mesh.helix.preset=\"${PRESET}\"" --set solver.accuracy=0
+       --set solver.iterations=96)
+# Newton's eps*, the truth, with its direct solver: exact as CG to 1e-10,
+# and about 20x faster on these meshes.
+TRUTH=(--set 'solver.newton_solver="ldlt"')
+# Chebyshev as it ran before issue 11: the paper's fixed parameters.
+FIXED="method=chebyshev chebyshev_parameters=fixed rho=0.96 chebyshev_delay=10 alpha_max=1"
+# Case keys of a `descent tune` output file: phase_rho, phase_lengths, alpha_max.
+tuned_keys() {
+  local f=$1
+  echo "method=chebyshev chebyshev_parameters=fixed" \
+    "phase_rho=$(sed -n 's/^phase_rho = //p' "$f" | tr -d ' ')" \
+    "phase_lengths=$(sed -n 's/^phase_lengths = //p' "$f" | tr -d ' ')" \
+    "alpha_max=$(sed -n 's/^alpha_max = //p' "$f" | tr -d ' ')"
+}
 machine() {  # the machine beside every figure
   {
     echo "date: $(date -u +%Y-%m-%dT%H:%MZ)"

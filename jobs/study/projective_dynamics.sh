@@ -6,8 +6,8 @@
 source "$(dirname "$0")/common.sh"
 out="$RESULTS/projective_dynamics_${PRESET}"
 mkdir -p "$out"
-cmd=($MPIEXEC -n 1 "$DESCENT" study "${helix[@]}" --set 'material.model="arap"'
-     --warmup 10 --repeats 3 --case chebyshev --case pd_chebyshev
+cmd=($MPIEXEC -n 1 "$DESCENT" study "${helix[@]}" "${TRUTH[@]}" --set 'material.model="arap"'
+     --warmup 10 --repeats 3 --case chebyshev --case "chebyshev_fixed:$FIXED" --case pd_chebyshev
      --case "chebyshev_M1:method=chebyshev hessian_interval=1" --case newton --study-out "$out")
 machine "${cmd[*]}" > "$out/machine.txt"
 "${cmd[@]}" 2> >(tee "$out/progress.log" >&2)

@@ -33,18 +33,22 @@ class CheckHistory {
   double restart_energy() const { return energy_.front(); }
 
   // The relative error (eps_k - eps*) / (eps_initial - eps*) of the last
-  // recorded state, for the run's rate phi (solver/spectrum.hpp); NaN when
-  // the last three checks do not decrease at evenly spaced iterations.
-  double relative_error(double initial_energy, double phi) const {
+  // recorded state, for the run's rate phi (solver/spectrum.hpp), from the
+  // decreases over the last two windows of `window` checks each (a wider
+  // window is not fooled by one check near a turning point of the
+  // oscillating error); NaN when there are not 2 windows of evenly spaced,
+  // decreasing checks.
+  double relative_error(double initial_energy, double phi, int window = 1) const {
     const double unknown = std::numeric_limits<double>::quiet_NaN();
-    const std::size_t n = energy_.size();
-    if (n < 3) return unknown;
-    const int k0 = k_[n - 3], k1 = k_[n - 2], k2 = k_[n - 1];
-    if (k2 - k1 != k1 - k0) return unknown;
-    const double d1 = energy_[n - 3] - energy_[n - 2], d2 = energy_[n - 2] - energy_[n - 1];
+    const std::size_t n = energy_.size(), w = static_cast<std::size_t>(window);
+    if (window < 1 || n < 2 * w + 1) return unknown;
+    const std::size_t i0 = n - 1 - 2 * w, i1 = n - 1 - w, i2 = n - 1;
+    if (k_[i2] - k_[i1] != k_[i1] - k_[i0]) return unknown;
+    const double d1 = energy_[i0] - energy_[i1], d2 = energy_[i1] - energy_[i2];
     if (!(d1 > 0 && d2 > 0)) return unknown;
-    const double bound_ratio = chebyshev_error_bound(phi, k2) / chebyshev_error_bound(phi, k1);
-    const double r = std::max(d2 / d1, bound_ratio);
+    const double bound_ratio =
+        chebyshev_error_bound(phi, k_[i2]) / chebyshev_error_bound(phi, k_[i1]);
+    const double r = std::max(d2 / d1, bound_ratio);  // per window
     if (!(r < 1)) return unknown;
     const double remaining = d2 * r / (1 - r);
     const double span = initial_energy - energy_.back() + remaining;

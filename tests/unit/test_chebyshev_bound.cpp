@@ -102,6 +102,20 @@ TEST(CheckHistory, ReadsTheRelativeErrorOfAGeometricDecay) {
   EXPECT_GT(h.relative_error(star + 100, fast_phi), std::pow(r, 6));
 }
 
+// One check near a turning point (a decrease far below the trend) fools a
+// one-check estimate into a small error, not one over wider windows.
+TEST(CheckHistory, AWideWindowIsNotFooledByOneFlatCheck) {
+  const double r = 0.9, phi = chebyshev_rate(0.001);
+  CheckHistory h;
+  h.restart(100);
+  for (int j = 1; j <= 8; ++j) h.record(8 * j, 100 * std::pow(r, j));
+  h.record(72, 100 * std::pow(r, 8) - 1e-6);  // almost no decrease
+  const double truth = std::pow(r, 8);
+  EXPECT_LT(h.relative_error(100, phi), 1e-3 * truth);
+  EXPECT_GT(h.relative_error(100, phi, 4), 0.5 * truth);
+  EXPECT_TRUE(std::isnan(h.relative_error(100, phi, 5))) << "needs 2 windows of 5 checks";
+}
+
 TEST(CheckHistory, NoEstimateWhileTheEnergyDoesNotFall) {
   const double phi = chebyshev_rate(0.5);
   CheckHistory h;
