@@ -17,22 +17,14 @@
 #include "common/error.hpp"
 #include "tests/backends/compare_runs.hpp"
 #include "tests/mpi/small_scenes.hpp"
+#include "tests/mpi/world_rank.hpp"
 
 namespace descent {
 namespace {
 
 using testing::backend_of;
-
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int s = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &s);
-  return s;
-}
+using testing::world_rank;
+using testing::world_size;
 
 // Scatter against gather assembly on the same ranks.
 template <class Real>

@@ -20,17 +20,13 @@
 #include "solver/chebyshev_descent.hpp"
 #include "tests/backends/compare_runs.hpp"
 #include "tests/mpi/small_scenes.hpp"
+#include "tests/mpi/world_rank.hpp"
 
 namespace descent {
 namespace {
 
 using testing::backend_of;
-
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
+using testing::world_rank;
 
 // The device of this rank (local rank mod devices, shared if need be).
 BackendChoice cuda_backend(Assembly assembly) {
