@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Pictures of a `descent run` output folder: the body at a few frames (side
-view of every vertex) and the per-frame stats (time, alpha, rollbacks,
-energy), in one PNG.
+view of every vertex) and the per-frame stats (time, iterations, alpha,
+rollbacks, energy), in one PNG.
 
   tools/plot_run.py out/helix              # writes out/helix/run.png
 Needs Debian's python3-h5py and python3-matplotlib (Debian's own python3).
@@ -21,9 +21,16 @@ except ImportError as e:
 
 
 def read_stats(path):
+    """The numeric columns of stats.csv (`status` and the like are left out)."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
-    return {k: [float(r[k]) for r in rows] for k in rows[0]} if rows else {}
+    out = {}
+    for k in rows[0] if rows else []:
+        try:
+            out[k] = [float(r[k]) for r in rows]
+        except ValueError:
+            continue
+    return out
 
 
 def main():
@@ -49,8 +56,10 @@ def main():
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
     if stats:
-        panels = [("wall_ms", "ms per frame"), ("alpha", "alpha at step end"),
-                  ("rollbacks", "rollbacks per step"), ("energy", "energy at last check [J]")]
+        panels = [("wall_ms", "ms per frame"), ("iterations", "iterations per step"),
+                  ("alpha", "alpha at step end"), ("rollbacks", "rollbacks per step"),
+                  ("energy", "energy at last check [J]")]
+        panels = [p for p in panels if p[0] in stats]  # what this file's build wrote
         for i, (key, label) in enumerate(panels):
             ax = fig.add_subplot(2, len(panels), len(panels) + i + 1)
             ax.plot(stats["frame"], stats[key], lw=1)

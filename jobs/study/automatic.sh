@@ -13,6 +13,11 @@
 #              paper's fixed 96 iterations, against Newton per step
 #  robustness: rollbacks and non-finite trials per scene, this build against
 #              OLD (a build from before issue 11, when set)
+#  accuracy:   solver.accuracy = 1e-1 .. 1e-4 per step against Newton: the
+#              41K helix over 12 steps, the armadillos over 6
+#  tune:       descent tune (1 phase) on the 41K helix and the stiff
+#              armadillo, against the automatic parameters at the same states
+# SCENES="helix41k armadillo" limits the pareto part to those scenes.
 # The armadillo parts are skipped with a message without ../shared/meshes.
 source "$(dirname "$0")/common.sh"
 parts=("$@")
@@ -27,8 +32,8 @@ have_armadillo=1
 scenes=(
   "helix41k|jobs/helix.toml --set mesh.helix.preset='\"41k\"' --set solver.accuracy=0 --set solver.iterations=96|500 400 300 400"
   "helix82k|jobs/helix.toml --set mesh.helix.preset='\"82k\"' --set solver.accuracy=0 --set solver.iterations=96|700 400 400 500"
-  "armadillo|jobs/study/armadillo.toml|600 400 400 500"
-  "armadillo_stiff|jobs/study/armadillo.toml --set material.young=1e7|2000 400 800 800"
+  "armadillo|jobs/study/armadillo.toml|600 400 800 1000"
+  "armadillo_stiff|jobs/study/armadillo.toml --set material.young=1e7|2000 400 2000 2500"
 )
 
 scene_args() {  # scene_args ENTRY: the scene arguments, one per line
@@ -40,6 +45,8 @@ scene_args() {  # scene_args ENTRY: the scene arguments, one per line
 pareto() {
   for entry in "${scenes[@]}"; do
     name=${entry%%|*}
+    # SCENES="a b": only those (default: all).
+    if [ -n "${SCENES:-}" ] && [[ " $SCENES " != *" $name "* ]]; then continue; fi
     if [[ $name == armadillo* && $have_armadillo == 0 ]]; then continue; fi
     mapfile -t args < <(scene_args "$entry")
     read -r n_auto n_fixed n_ncg n_lbfgs <<<"$(echo "$entry" | cut -d'|' -f3)"
@@ -114,14 +121,21 @@ robustness() {
         frames=$(echo "$entry" | cut -d'|' -f3)
         if [[ $name == armadillo* && $have_armadillo == 0 ]]; then continue; fi
         if [[ $name == bunny && ! -f ../shared/meshes/bunny_ipc.msh ]]; then continue; fi
-        # The old build knows neither accuracy nor the automatic parameters:
-        # it runs its own defaults (the fixed parameters, 96 iterations).
+        # The old build knows neither accuracy nor the automatic parameters
+        # (nor jobs/helix.toml's keys for them): it runs its built-in helix
+        # scene, the fixed parameters at 96 iterations.
         [[ $label == old && $name == helix82k ]] && continue
         args=$(echo "$entry" | cut -d'|' -f2)
-        [[ $label == old ]] && args=${args//--set solver.accuracy=0 /}
+        if [[ $label == old && $name == helix* ]]; then
+          args=${args//jobs\/helix.toml/}
+          args=${args//--set solver.accuracy=0 /}
+          args=${args//--set solver.iterations=96/}
+        fi
         eval "run_args=($args)"
+        rm -rf "$out/run"
         $MPIEXEC -n 2 "$binary" run "${run_args[@]}" --set "time.frames=$frames" --overwrite --quiet \
           --out "$out/run" > /dev/null 2>&1 || true
+        [ -f "$out/run/stats.csv" ] || { echo "$label | $name | failed to run"; continue; }
         $PYTHON - "$label" "$name" "$out/run/stats.csv" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[3])))
@@ -138,9 +152,46 @@ PY
   cat "$out/robustness.md"
 }
 
+accuracy() {
+  for entry in "helix41k|12|1e-1 1e-2 1e-3 1e-4" "armadillo|6|1e-2 1e-3" "armadillo_stiff|6|1e-2 1e-3"; do
+    name=${entry%%|*}
+    if [[ $name == armadillo* && $have_armadillo == 0 ]]; then continue; fi
+    frames=$(echo "$entry" | cut -d'|' -f2)
+    mapfile -t args < <(scene_args "$(printf '%s\n' "${scenes[@]}" | grep "^$name|")")
+    cases=()
+    for tol in $(echo "$entry" | cut -d'|' -f3); do
+      cases+=(--case "tol_$tol:method=chebyshev accuracy=$tol iterations=5000")
+    done
+    out="$base/accuracy/$name"
+    mkdir -p "$out"
+    cmd=($MPIEXEC -n 1 "$DESCENT" study "${args[@]}" "${TRUTH[@]}" --warmup 5 --frames "$frames"
+         --every 1 --repeats 1 "${cases[@]}" --study-out "$out")
+    machine "${cmd[*]}" > "$out/machine.txt"
+    "${cmd[@]}" 2> "$out/progress.log"
+    gzip -f "$out/study.csv"
+  done
+  $PYTHON tools/accuracy_summary.py "$base/accuracy" > "$base/accuracy.md"
+  cat "$base/accuracy.md"
+}
+
+tune() {
+  for entry in "helix41k|1" "armadillo_stiff|1"; do
+    name=${entry%%|*}
+    if [[ $name == armadillo* && $have_armadillo == 0 ]]; then continue; fi
+    mapfile -t args < <(scene_args "$(printf '%s\n' "${scenes[@]}" | grep "^$name|")")
+    out="$base/tune"
+    mkdir -p "$out"
+    cmd=($MPIEXEC -n 1 "$DESCENT" tune "${args[@]}" --phases 1 --warmup 10 --frames 2
+         --max-cycles 40 --tune-out "$out/$name.toml")
+    machine "${cmd[*]}" > "$out/$name.machine.txt"
+    "${cmd[@]}" 2> "$out/$name.log"
+  done
+}
+
 for part in "${parts[@]}"; do
   case $part in
-    pareto | spectrum | mainjob | robustness) "$part" ;;
-    *) echo "automatic.sh: unknown part '$part' (pareto, spectrum, mainjob, robustness)" >&2; exit 2 ;;
+    pareto | spectrum | mainjob | robustness | accuracy | tune) "$part" ;;
+    *) echo "automatic.sh: unknown part '$part' (pareto, spectrum, mainjob, robustness," \
+            "accuracy, tune)" >&2; exit 2 ;;
   esac
 done

@@ -9,6 +9,8 @@ PRESET=${PRESET:-82k}
 RESULTS=${RESULTS:-bench/results/study}
 MPIEXEC=${MPIEXEC:-mpiexec --oversubscribe}
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
+# Open MPI refuses to run as root unless told (containers, CI).
+if [ "$(id -u)" = 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
 PYTHON=/usr/bin/python3  # Debian's, with matplotlib
 # The paper's budget: 96 iterations a step, no accuracy target (the main
 # job, jobs/helix.toml, runs each step to 1e-2).
