@@ -73,11 +73,13 @@ def plot_steps(data, title, target, time_label):
     fig.savefig(target, dpi=110)
 
 
-def plot_frames(rows, title, target):
+def plot_frames(rows, title, target, relative):
     """End-of-step error per measured frame, per case (Fig. 6 style). The
     relative error is normalised by each case's own eps(q_0), which differs
-    between initialisations, so the absolute error eps(q) - eps* (J) is
-    drawn; eps* follows from any row with e != 1: (E_k - e_k E_0) / (1 - e_k)."""
+    between initialisations, so by default the absolute error eps(q) - eps*
+    (J) is drawn; eps* follows from any row with e != 1: (E_k - e_k E_0) /
+    (1 - e_k). With `relative` (cases that share their initial guess) e
+    itself is drawn."""
     steps = defaultdict(list)
     for r in rows:
         steps[(r["case"], int(r["frame"]))].append(r)
@@ -88,12 +90,13 @@ def plot_frames(rows, title, target):
         if rel == 1 or rel != rel:
             continue
         star = (ek - rel * e0) / (1 - rel)
-        per_case[case].append((frame, max(ek - star, FLOOR)))
+        per_case[case].append((frame, max(rel if relative else ek - star, FLOOR)))
     fig, ax = plt.subplots(figsize=(10, 4.5))
     for case, points in per_case.items():
         ax.semilogy([p[0] for p in points], [p[1] for p in points], marker=".", label=case)
     ax.set_xlabel("frame")
-    ax.set_ylabel("eps(q) - eps* at the end of the step (J)")
+    ax.set_ylabel("e at the end of the step" if relative else
+                  "eps(q) - eps* at the end of the step (J)")
     ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
@@ -140,6 +143,8 @@ def main():
     parser.add_argument("--title", default="descent study")
     parser.add_argument("--frames", action="store_true",
                         help="plot the end-of-step error per frame instead")
+    parser.add_argument("--relative", action="store_true",
+                        help="with --frames: the relative error e (cases with one initial guess)")
     parser.add_argument("--out", type=Path, help="output folder (default: the first DIR)")
     parser.add_argument("--cases", nargs="+", help="only these cases (default: all)")
     parser.add_argument("--name", help="file name stem (default: study or frames)")
@@ -156,7 +161,7 @@ def main():
     if not rows:
         sys.exit(f"no rows in {args.dirs} for cases {args.cases}")
     if args.frames:
-        plot_frames(rows, args.title, out / f"{name}.png")
+        plot_frames(rows, args.title, out / f"{name}.png", args.relative)
     else:
         column = "ms" if args.time == "wall" else "cpu_ms"
         if column not in rows[0]:
