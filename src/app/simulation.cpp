@@ -138,6 +138,7 @@ Checkpoint Simulation<Real>::checkpoint(int frame) const {
   c.alpha = memory.alpha;
   c.lambda_min = memory.lambda_min;
   c.lambda_max = memory.lambda_max;
+  c.widening = memory.widening;
   c.steps_since_estimate = memory.steps_since_estimate;
   c.reestimate = memory.reestimate;
   c.q.assign(state_.q.begin(), state_.q.end());
@@ -164,7 +165,8 @@ void Simulation<Real>::restore(const Checkpoint& c) {
   state_.v.assign(c.v.begin(), c.v.end());
   state_.v_prev.assign(c.v_prev.begin(), c.v_prev.end());
   state_.time = c.time;
-  solver_->set_memory({c.alpha, c.lambda_min, c.lambda_max, c.steps_since_estimate, c.reestimate});
+  solver_->set_memory(
+      {c.alpha, c.lambda_min, c.lambda_max, c.steps_since_estimate, c.reestimate, c.widening});
   problem_.set_interpolants(std::vector<Real>(c.interpolants.begin(), c.interpolants.end()));
 }
 

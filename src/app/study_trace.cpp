@@ -32,6 +32,7 @@ StepMemory carried_memory(const SolverSpec& warmup, const StepMemory& memory,
     carried.lambda_max = memory.lambda_max;
     carried.steps_since_estimate = memory.steps_since_estimate;
     carried.reestimate = memory.reestimate;
+    carried.widening = memory.widening;
   }
   if (!same_method && !automatic) carried.alpha = spec.alpha_max;
   return carried;

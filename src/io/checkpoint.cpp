@@ -69,6 +69,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     put(out, c.alpha);
     put(out, c.lambda_min);
     put(out, c.lambda_max);
+    put(out, c.widening);
     put(out, std::int32_t(c.steps_since_estimate));
     put(out, std::int32_t(c.reestimate ? 1 : 0));
     put_array(out, c.q);
@@ -105,6 +106,7 @@ Checkpoint read_checkpoint(const std::string& path) {
   if (!version1) {
     c.lambda_min = get<double>(in, path);
     c.lambda_max = get<double>(in, path);
+    c.widening = get<double>(in, path);
     c.steps_since_estimate = get<std::int32_t>(in, path);
     c.reestimate = get<std::int32_t>(in, path) != 0;
   }

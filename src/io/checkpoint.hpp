@@ -7,7 +7,7 @@
 //   "descent-checkpoint-2\n"        magic and version
 //   int32  num_ranks, rank, frame
 //   int64  num_global_vertices, num_global_tets, local dofs, local tets
-//   double time, alpha, lambda_min, lambda_max
+//   double time, alpha, lambda_min, lambda_max, widening
 //   int32  steps_since_estimate, reestimate (0 or 1)
 //   double q[dofs], v[dofs], v_prev[dofs], interpolants[tets or 0]
 // Version 1 (no spectrum fields) is still read: its run estimates the
@@ -32,7 +32,7 @@ struct Checkpoint {
   double time = 0;
   // The stepper's StepMemory (solver/stepper.hpp).
   double alpha = 0;
-  double lambda_min = 0, lambda_max = 0;
+  double lambda_min = 0, lambda_max = 0, widening = 1;
   int steps_since_estimate = 0;
   bool reestimate = false;
   std::vector<double> q, v, v_prev;  // 3 per local vertex

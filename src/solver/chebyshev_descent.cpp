@@ -161,6 +161,10 @@ bool ChebyshevDescent<Real>::prepare_spectrum(const BodyState<Real>& state, Step
   stats.spectrum_steps = run.steps;
   if (run.steps > 0 && run.ritz.highest > 0 && std::isfinite(run.ritz.highest)) {
     const double upper = (1 + spec_.spectrum_margin) * run.ritz.highest;
+    // A widening keeps the b it reached, not its factor: the new estimate
+    // may already lie as high.
+    if (memory_.lambda_max > 0)
+      memory_.widening = std::max(1.0, memory_.widening * memory_.lambda_max / upper);
     memory_.lambda_max = upper;
     // Lanczos approaches the bottom from above, slowly where it is a
     // cluster of slow modes; a rigid translation's quotient often lies
@@ -215,7 +219,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     // it: there momentum is what carries a body out of a shallow basin
     // (tests/mpi/test_recovery.cpp's random box).
     schedule.delay = predicted ? spec_.check_interval + 1 : 1;
-    schedule.set_bounds(memory_.lambda_min, memory_.lambda_max);
+    schedule.set_bounds(memory_.lambda_min, memory_.widening * memory_.lambda_max);
   } else {
     memory_.alpha = std::min(spec_.alpha_max, memory_.alpha / spec_.gamma);
     schedule.delay = spec_.chebyshev_delay;
@@ -323,8 +327,12 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     ++stats.rollbacks;
     if (schedule.automatic) {
       // The spectrum reaches above b here (or the step is too long for the
-      // energy's curvature): widen, and estimate anew next step.
+      // energy's curvature): widen, keep the widening for the next steps
+      // (a new estimate at the guess does not see the curvature the path
+      // met: the crushing armadillo rolled back 2.7 times a step without
+      // it), and estimate anew next step.
       schedule.set_bounds(schedule.lower, schedule.upper / spec_.gamma);
+      memory_.widening /= spec_.gamma;
       memory_.reestimate = true;
       prior_iterations = target > 0 ? bound_iterations() : 0;
     } else {
@@ -338,6 +346,8 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     }
   }
 
+  if (schedule.automatic && stats.rollbacks == 0)
+    memory_.widening = std::max(1.0, memory_.widening * spec_.gamma);
   stats.alpha = schedule.alpha;
   stats.rho = schedule.rho;
   stats.lambda_min = schedule.lower;

@@ -99,6 +99,10 @@ struct StepMemory {
   double lambda_min = 0, lambda_max = 0;
   int steps_since_estimate = 0;
   bool reestimate = false;
+  // The factor on lambda_max the steps use: grown by a rollback's widening
+  // (the curvature met along the path lay above the estimate), relaxed by
+  // gamma after each step without one, as the fixed parameters' alpha is.
+  double widening = 1;
 };
 
 template <class Real>

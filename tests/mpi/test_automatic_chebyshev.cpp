@@ -7,6 +7,8 @@
 //   - given solver.accuracy it stops at an error below the target (within
 //     3x, the bound for every step) and well before the cap, and
 //     spends more iterations on a tighter target;
+//   - a rollback's widening of b stays with the next step and relaxes by
+//     gamma per step without one;
 //   - the same counts and positions on every rank count.
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -100,6 +102,39 @@ TEST(AutomaticChebyshev, ReachesTheAccuracyItIsGiven) {
     EXPECT_LE(trace.stats.error_estimate, target);
     previous = trace.stats.iterations;
   }
+}
+
+TEST(AutomaticChebyshev, KeepsARollbacksWideningAndRelaxesIt) {
+  Scene scene = testing::small_helix_scene();
+  scene.solver.spectrum_interval = 0;  // new estimates only after rollbacks
+  const Mesh mesh = build_scene_mesh(scene.mesh);
+  Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+  for (int frame = 0; frame < 3; ++frame) sim.step();
+  // b a tenth of the estimate's: the step must roll back and widen.
+  StepMemory memory = sim.stepper().memory();
+  ASSERT_GT(memory.lambda_max, 0);
+  const double estimate = memory.lambda_max;
+  memory.lambda_max = estimate / 10;
+  sim.stepper().set_memory(memory);
+  const StepStats narrow = sim.step();
+  ASSERT_GE(narrow.rollbacks, 1);
+  const double gamma = scene.solver.gamma;
+  const double widening = sim.stepper().memory().widening;
+  EXPECT_NEAR(widening, std::pow(1 / gamma, narrow.rollbacks), 1e-12 * widening);
+  // The next step estimates anew and starts at the b the rollbacks reached
+  // (or the new estimate's, if higher), then relaxes by gamma.
+  const StepStats next = sim.step();
+  const StepMemory after = sim.stepper().memory();
+  EXPECT_GT(next.spectrum_steps, 0);
+  if (next.rollbacks == 0) {
+    const double reached = narrow.lambda_max;
+    EXPECT_NEAR(next.lambda_max, std::max(reached, after.lambda_max), 1e-12 * reached);
+    EXPECT_NEAR(after.widening, std::max(1.0, gamma * next.lambda_max / after.lambda_max), 1e-12);
+  }
+  if (world_rank() == 0)
+    std::printf(
+        "[ automatic ] b at a tenth: %d rollbacks, widening %.3g, next step %d, then %.3g\n",
+        narrow.rollbacks, widening, next.rollbacks, after.widening);
 }
 
 TEST(AutomaticChebyshev, RanksAgreeWithOneRankOnCountsAndPositions) {
