@@ -42,7 +42,8 @@ SolverSpec fixed_spec(SolverSpec spec, const Candidate& c) {
 
 std::string describe(const Candidate& c) {
   std::ostringstream s;
-  s.precision(8);
+  // Every digit: a rho of 1 - 1e-9 written with 8 would read back as 1.
+  s.precision(std::numeric_limits<double>::max_digits10);
   s << "chebyshev_parameters = \"fixed\"\nphase_rho = [";
   for (std::size_t i = 0; i < c.log_gap.size(); ++i)
     s << (i ? ", " : "") << 1 - std::exp(c.log_gap[i]);
