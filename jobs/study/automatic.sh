@@ -32,8 +32,8 @@ have_armadillo=1
 scenes=(
   "helix41k|jobs/helix.toml --set mesh.helix.preset='\"41k\"' --set solver.accuracy=0 --set solver.iterations=96|500 400 300 400"
   "helix82k|jobs/helix.toml --set mesh.helix.preset='\"82k\"' --set solver.accuracy=0 --set solver.iterations=96|700 400 400 500"
-  "armadillo|jobs/study/armadillo.toml|600 400 800 1000"
-  "armadillo_stiff|jobs/study/armadillo.toml --set material.young=1e7|2000 400 2000 2500"
+  "armadillo|jobs/study/armadillo.toml|1000 400 800 1000"
+  "armadillo_stiff|jobs/study/armadillo.toml --set material.young=1e7|2500 400 2000 2500"
 )
 
 scene_args() {  # scene_args ENTRY: the scene arguments, one per line
@@ -64,6 +64,7 @@ pareto() {
     done
   done
   $PYTHON tools/plot_pareto.py "$base/pareto" --out "$base"
+  gzip -f "$base"/pareto/*/np*/study.csv  # plot_pareto.py reads either
 }
 
 spectrum() {
@@ -100,7 +101,7 @@ mainjob() {
   machine "${cmd[*]}" > "$out/machine.txt"
   "${cmd[@]}" 2> "$out/progress.log"
   gzip -f "$out/study.csv"
-  $PYTHON tools/plot_study.py "$out" --frames --title "Main job: e at the end of each step"
+  $PYTHON tools/plot_study.py "$out" --frames --relative --title "Main job: e at the end of each step"
 }
 
 robustness() {
