@@ -110,6 +110,7 @@ void Simulation<Real>::set_positions(const std::vector<double>& global_xyz) {
 template <class Real>
 StepStats Simulation<Real>::step() {
   const StepMemory memory = solver_->memory();
+  solver_->abandon_non_finite_guess_next_step();
   StepStats first = solver_->step(state_);
   if (first.finite) return first;
   // The failed step left the body at its start, which is finite; only the
@@ -117,6 +118,17 @@ StepStats Simulation<Real>::step() {
   solver_->set_memory(memory);
   solver_->guess_next_step_from_start();
   StepStats retry = solver_->step(state_);
+  if (!retry.finite && first.abandoned_guess) {
+    // The step start led nowhere either: back to the guess, shrinking the
+    // step as far as it takes this time (from a guess of non-finite energy
+    // a short enough step can still reach a finite state).
+    solver_->set_memory(memory);
+    StepStats persisted = solver_->step(state_);
+    persisted.rollbacks += retry.rollbacks;
+    persisted.nonfinite_rollbacks += retry.nonfinite_rollbacks;
+    persisted.spectrum_steps += retry.spectrum_steps;
+    retry = persisted;
+  }
   retry.retried_from_start = true;
   retry.rollbacks += first.rollbacks;
   retry.nonfinite_rollbacks += first.nonfinite_rollbacks;

@@ -191,6 +191,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   predict_positions(spec_, problem_, state, qt_, y_, q_, from_start);
   // Extrapolated from the last steps' motion (not the step start itself).
   const bool predicted = !from_start && spec_.init != "position";
+  const bool may_abandon_guess = this->take_abandon_guess();
   problem_.hold_fixed(t_next, q_);
   EnergyCheck check(problem_.energy_changes_within_step(), problem_.energy_noise_floor());
   const bool reevaluate = check.reevaluate();
@@ -321,10 +322,18 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
       engine_->download(false);
       stats.rejected_at = problem_.find_non_finite(q_, y_, qt_);
     }
+    ++stats.rollbacks;
+    // Back to an extrapolated guess whose own energy is not finite: the
+    // step start usually does better than shrinking the step from it (the
+    // crushing armadillo rolled back 12 times a step so), so the caller
+    // retakes the step from there first.
+    if (predicted && may_abandon_guess && !check.checked_finite()) {
+      stats.abandoned_guess = true;
+      break;
+    }
     engine_->rollback();
     best_is_current = true;
     chebyshev_k = 0;
-    ++stats.rollbacks;
     if (schedule.automatic) {
       // The spectrum reaches above b here (or the step is too long for the
       // energy's curvature): widen, keep the widening for the next steps

@@ -77,6 +77,9 @@ struct StepStats {
   // state, and the retry from the step start q_t (always finite: the last
   // accepted state) succeeded or failed in its place (Simulation::step).
   bool retried_from_start = false;
+  // The step ended at its first rollback to a predicted guess whose own
+  // energy is not finite, for Simulation::step to retake from the start.
+  bool abandoned_guess = false;
 
   // Chebyshev (0 for other methods): the bounds of the spectrum of D^-1 H
   // the step used (the automatic parameters' estimate, widened by any
@@ -128,10 +131,17 @@ class Stepper {
   // The next step starts from q_t (solver.init = "position") whatever
   // solver.init says: once, for the retry of a failed step.
   void guess_next_step_from_start() { guess_from_start_ = true; }
+  // The next step may end at its first rollback to a predicted guess of
+  // non-finite energy (StepStats::abandoned_guess): once, from a caller that
+  // then retakes it (Simulation::step).
+  void abandon_non_finite_guess_next_step() { abandon_guess_ = true; }
 
  protected:
   // Whether this step's prediction must start from q_t; clears the request.
   bool take_guess_from_start() { return std::exchange(guess_from_start_, false); }
+  // Whether this step may abandon a non-finite predicted guess; clears the
+  // permission.
+  bool take_abandon_guess() { return std::exchange(abandon_guess_, false); }
 
   void observe(int k, const Real* q, const Real* y, const Real* qt) const {
     if (observer_) observer_(k, q, y, qt);
@@ -143,6 +153,7 @@ class Stepper {
  private:
   Observer observer_;
   bool guess_from_start_ = false;
+  bool abandon_guess_ = false;
 };
 
 // The method named by spec.method over `problem` (which must outlive it).

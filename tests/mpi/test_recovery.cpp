@@ -133,7 +133,8 @@ TEST(Recovery, FungBoxFromRandomPositionsRecoversWithAFreshDiagonal) {
 
 // A predicted initial guess that inverts every tet of a neo-Hookean body
 // (infinite energy: no shorter step gets out of the barrier) fails the step;
-// Simulation::step retakes it from the step start, which is finite.
+// Simulation::step lets the stepper abandon it at the first rollback and
+// retakes the step from the step start, which is finite.
 TEST(Recovery, AnInvertingPredictionIsRetriedFromTheStepStart) {
   Scene scene = testing::small_helix_scene();
   scene.solver.init = "velocity";
@@ -162,7 +163,18 @@ TEST(Recovery, AnInvertingPredictionIsRetriedFromTheStepStart) {
   BodyState<double> state = sim.state();
   const StepStats alone = sim.stepper().step(state);
   EXPECT_FALSE(alone.finite);
+  EXPECT_FALSE(alone.abandoned_guess);  // it shrank the step to the end
   EXPECT_EQ(state.q, sim.state().q);
+
+  // Allowed to abandon the guess, the stepper ends at the first rollback.
+  sim.restore(c);
+  BodyState<double> again = sim.state();
+  sim.stepper().abandon_non_finite_guess_next_step();
+  const StepStats abandoned = sim.stepper().step(again);
+  EXPECT_FALSE(abandoned.finite);
+  EXPECT_TRUE(abandoned.abandoned_guess);
+  EXPECT_EQ(abandoned.rollbacks, 1);
+  EXPECT_EQ(again.q, sim.state().q);
 
   // Through Simulation::step: retaken from q_t, finite, no tet inverted.
   sim.restore(c);
@@ -170,6 +182,7 @@ TEST(Recovery, AnInvertingPredictionIsRetriedFromTheStepStart) {
   EXPECT_TRUE(step.finite);
   EXPECT_TRUE(step.retried_from_start);
   EXPECT_GT(step.nonfinite_rollbacks, 0);
+  EXPECT_LT(step.rollbacks, alone.rollbacks);  // the guess abandoned at once
   const std::vector<double> x = testing::gather_positions(MPI_COMM_WORLD, sim, mesh.num_vertices());
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
