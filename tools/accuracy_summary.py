@@ -8,19 +8,11 @@ bench/results/chebyshev_auto/README.md).
 
   tools/accuracy_summary.py DIR
 """
-import csv
-import gzip
 import statistics
 import sys
 from pathlib import Path
 
-
-def rows_of(folder):
-    for name, opener in (("study.csv", open), ("study.csv.gz", gzip.open)):
-        if (folder / name).exists():
-            with opener(folder / name, "rt") as f:
-                return list(csv.DictReader(f))
-    return []
+from study_csv import read_study
 
 
 def main():
@@ -31,7 +23,7 @@ def main():
     print("| --- | --- | --- | --- | --- | --- | --- |")
     for scene in sorted(d for d in root.iterdir() if d.is_dir()):
         last = {}  # (case, frame) -> the step's final record
-        for r in rows_of(scene):
+        for r in read_study(scene):
             if r["case"].startswith("tol_"):
                 last[(r["case"], r["frame"])] = r
         for case in sorted({c for c, _ in last}, key=lambda c: -float(c[4:])):

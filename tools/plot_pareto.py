@@ -11,11 +11,11 @@ every level NCG or L-BFGS reaches in less time than either) and
 OUT/pareto.png. Needs matplotlib (Debian: python3-matplotlib).
 """
 import argparse
-import csv
-import gzip
 import math
 import sys
 from pathlib import Path
+
+from study_csv import read_study
 
 try:
     import matplotlib
@@ -26,14 +26,6 @@ except ImportError as e:
 
 LEVELS = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5)
 PEERS = ("ncg", "lbfgs")
-
-
-def read(folder):
-    for name, opener in (("study.csv", open), ("study.csv.gz", gzip.open)):
-        if (folder / name).exists():
-            with opener(folder / name, "rt") as f:
-                return list(csv.DictReader(f))
-    return None
 
 
 def first_reach(rows, level):
@@ -49,7 +41,7 @@ def load(root):
     data = {}
     for scene_dir in sorted(p for p in root.iterdir() if p.is_dir()):
         for np_dir in sorted(scene_dir.glob("np*")):
-            rows = read(np_dir)
+            rows = read_study(np_dir)
             if not rows:
                 continue
             cases = {}

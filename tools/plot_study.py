@@ -12,11 +12,11 @@ NAME_pareto.md (over the plotted cases) in the first DIR or --out.
 Needs matplotlib (Debian: /usr/bin/python3 with python3-matplotlib).
 """
 import argparse
-import csv
-import gzip
 import sys
 from collections import defaultdict
 from pathlib import Path
+
+from study_csv import read_study
 
 try:
     import matplotlib
@@ -28,17 +28,6 @@ except ImportError as e:
 
 # Errors at or below this are the round-off floor of eps: drawn at the floor.
 FLOOR = 1e-12
-
-
-def read(folder):
-    """study.csv of a folder, or study.csv.gz where a long study was archived
-    compressed in bench/results."""
-    plain = folder / "study.csv"
-    if not plain.exists() and (folder / "study.csv.gz").exists():
-        with gzip.open(folder / "study.csv.gz", "rt") as f:
-            return list(csv.DictReader(f))
-    with open(plain) as f:
-        return list(csv.DictReader(f))
 
 
 def curves(rows, time_column):
@@ -155,7 +144,7 @@ def main():
     name = args.name or ("frames" if args.frames else "study")
     rows = []
     for d in args.dirs:
-        rows += read(d)
+        rows += read_study(d)
     if args.cases:
         rows = [r for r in rows if r["case"] in args.cases]
     if not rows:

@@ -149,7 +149,10 @@ PY
     done
   } > "$out/robustness.md"
   rm -rf "$out/run"
-  machine "jobs/study/automatic.sh robustness (OLD=${OLD:-unset}); 2 ranks each" > "$out/machine.txt"
+  # The old build by the commit of the tree it lies in, not by its path.
+  local old_build="none"
+  [ -n "${OLD:-}" ] && old_build="a build of commit $(git -C "$(dirname "$OLD")" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+  machine "jobs/study/automatic.sh robustness (OLD: $old_build); 2 ranks each" > "$out/machine.txt"
   cat "$out/robustness.md"
 }
 

@@ -107,6 +107,18 @@ void Simulation<Real>::set_positions(const std::vector<double>& global_xyz) {
   std::fill(state_.v_prev.begin(), state_.v_prev.end(), Real(0));
 }
 
+namespace {
+
+// The counts of an earlier attempt at the same step, added to the one that
+// stands.
+void add_attempt(StepStats& stands, const StepStats& earlier) {
+  stands.rollbacks += earlier.rollbacks;
+  stands.nonfinite_rollbacks += earlier.nonfinite_rollbacks;
+  stands.spectrum_steps += earlier.spectrum_steps;
+}
+
+}  // namespace
+
 template <class Real>
 StepStats Simulation<Real>::step() {
   const StepMemory memory = solver_->memory();
@@ -124,15 +136,11 @@ StepStats Simulation<Real>::step() {
     // a short enough step can still reach a finite state).
     solver_->set_memory(memory);
     StepStats persisted = solver_->step(state_);
-    persisted.rollbacks += retry.rollbacks;
-    persisted.nonfinite_rollbacks += retry.nonfinite_rollbacks;
-    persisted.spectrum_steps += retry.spectrum_steps;
+    add_attempt(persisted, retry);
     retry = persisted;
   }
   retry.retried_from_start = true;
-  retry.rollbacks += first.rollbacks;
-  retry.nonfinite_rollbacks += first.nonfinite_rollbacks;
-  retry.spectrum_steps += first.spectrum_steps;
+  add_attempt(retry, first);
   if (!retry.rejected_at.found()) retry.rejected_at = first.rejected_at;
   return retry;
 }

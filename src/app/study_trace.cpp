@@ -26,15 +26,9 @@ StepMemory carried_memory(const SolverSpec& warmup, const StepMemory& memory,
       (spec.method != "chebyshev" || spec.chebyshev_parameters == warmup.chebyshev_parameters);
   const bool automatic = spec.method == "chebyshev" && spec.chebyshev_parameters == "auto";
   StepMemory carried;
-  if (same_method) carried = memory;
-  if (automatic) {
-    carried.lambda_min = memory.lambda_min;
-    carried.lambda_max = memory.lambda_max;
-    carried.steps_since_estimate = memory.steps_since_estimate;
-    carried.reestimate = memory.reestimate;
-    carried.widening = memory.widening;
-  }
-  if (!same_method && !automatic) carried.alpha = spec.alpha_max;
+  if (same_method || automatic) carried = memory;
+  // The spectrum is the state's; the step length belongs to the method.
+  if (!same_method) carried.alpha = automatic ? 0 : spec.alpha_max;
   return carried;
 }
 
