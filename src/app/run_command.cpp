@@ -154,7 +154,7 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   const int resume_after = options.restart ? first_frame - 1 : -1;
   FrameWriter frames(comm, out_dir, layout, resume_after);
   StatsWriter stats(comm, out_dir, sim.measurement_names(), resume_after);
-  if (!options.restart) frames.write_frame(0, 0.0, sim.owned_positions());
+  if (!options.restart) frames.write_frame(0, 0.0, sim.owned_positions(), sim.owned_velocities());
   // The newest frame in frames.h5 (-1: none known), so a stop can add the
   // last good one without writing a frame twice.
   int last_written =
@@ -221,12 +221,13 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
       // The body still holds the last good state (the step left it alone):
       // make sure it is on disk, then stop every rank with one message.
       if (last_written != frame - 1)
-        frames.write_frame(frame - 1, (frame - 1) * h, sim.owned_positions());
+        frames.write_frame(frame - 1, (frame - 1) * h, sim.owned_positions(),
+                           sim.owned_velocities());
       report_failed_step(comm, frame, step, frames.h5_path());
       return 3;  // the ranks that do not report; main's agree() ends them all
     }
     if (frame % scene.output.every == 0) {
-      frames.write_frame(frame, frame * h, sim.owned_positions());
+      frames.write_frame(frame, frame * h, sim.owned_positions(), sim.owned_velocities());
       last_written = frame;
     }
     // After the frame's output, so a restart never lacks a frame it skips.

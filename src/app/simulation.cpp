@@ -222,6 +222,11 @@ std::vector<double> Simulation<Real>::owned_positions() const {
   return std::vector<double>(state_.q.begin(), state_.q.begin() + 3 * local_.num_owned);
 }
 
+template <class Real>
+std::vector<double> Simulation<Real>::owned_velocities() const {
+  return std::vector<double>(state_.v.begin(), state_.v.begin() + 3 * local_.num_owned);
+}
+
 template class Simulation<double>;
 template class Simulation<float>;
 

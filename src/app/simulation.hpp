@@ -63,8 +63,10 @@ class Simulation {
     return descent::device_memory_report(*solver_, local_.num_tets(), local_.num_vertices());
   }
 
-  // Positions of owned vertices (3 per vertex, in local order [0, num_owned)).
+  // Positions and velocities of owned vertices (3 per vertex, in local order
+  // [0, num_owned)), after the last step.
   std::vector<double> owned_positions() const;
+  std::vector<double> owned_velocities() const;
 
   // Per-region measurements after the last step, for the stats: names and
   // values in the same order (none when the scene has no load, no moving

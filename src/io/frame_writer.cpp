@@ -182,31 +182,51 @@ int write_file_atomically(const fs::path& path, const std::string& text) {
   return error.value();
 }
 
-// One Uniform grid of the temporal collection: the shared topology and the
-// positions of frame `frame`. Paths are relative so DIR can be moved.
-std::string xdmf_grid(int frame, double time, index_t num_vertices, index_t num_tets) {
-  const std::string name = frame_name(frame);
+// A DataItem naming a float64 [num_vertices, 3] dataset of frames.h5.
+std::string xdmf_vertex_item(index_t num_vertices, const std::string& path) {
+  std::ostringstream item;
+  item << "<DataItem Dimensions=\"" << num_vertices
+       << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << kH5Name << ":" << path
+       << "</DataItem>";
+  return item.str();
+}
+
+std::string xdmf_vertex_attribute(const char* name, index_t num_vertices, const std::string& path) {
+  return detail::concat("        <Attribute Name=\"", name,
+                        "\" AttributeType=\"Vector\" Center=\"Node\">\n          ",
+                        xdmf_vertex_item(num_vertices, path), "\n        </Attribute>\n");
+}
+
+// One Uniform grid of the temporal collection: frame `frame`'s positions as
+// its Geometry, its displacement and velocity as node Attributes. The first
+// grid (`first`) holds the Topology, the others include that one, so that the
+// connectivity is named once.
+std::string xdmf_grid(int frame, double time, index_t num_vertices, index_t num_tets, bool first) {
+  const std::string group = std::string("/frames/") + frame_name(frame);
   std::ostringstream grid;
-  grid << "      <Grid Name=\"frame_" << name << "\" GridType=\"Uniform\">\n"
-       << "        <Time Value=\"" << format_double(time) << "\"/>\n"
-       << "        <Topology TopologyType=\"Tetrahedron\" NumberOfElements=\"" << num_tets
-       << "\">\n"
-       << "          <DataItem Dimensions=\"" << num_tets
-       << " 4\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" << kH5Name
-       << ":/mesh/tets</DataItem>\n"
-       << "        </Topology>\n"
-       << "        <Geometry GeometryType=\"XYZ\">\n"
-       << "          <DataItem Dimensions=\"" << num_vertices
-       << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << kH5Name << ":/frames/"
-       << name << "/positions</DataItem>\n"
+  grid << "      <Grid Name=\"frame_" << frame_name(frame) << "\" GridType=\"Uniform\">\n"
+       << "        <Time Value=\"" << format_double(time) << "\"/>\n";
+  if (first) {
+    grid << "        <Topology TopologyType=\"Tetrahedron\" NumberOfElements=\"" << num_tets
+         << "\">\n"
+         << "          <DataItem Dimensions=\"" << num_tets
+         << " 4\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" << kH5Name
+         << ":/mesh/tets</DataItem>\n"
+         << "        </Topology>\n";
+  } else {
+    grid << "        <xi:include xpointer=\"xpointer(/Xdmf/Domain/Grid/Grid[1]/Topology)\"/>\n";
+  }
+  grid << "        <Geometry GeometryType=\"XYZ\">\n"
+       << "          " << xdmf_vertex_item(num_vertices, group + "/positions") << "\n"
        << "        </Geometry>\n"
-       << "      </Grid>\n";
+       << xdmf_vertex_attribute("displacement", num_vertices, group + "/displacement")
+       << xdmf_vertex_attribute("velocity", num_vertices, group + "/velocity") << "      </Grid>\n";
   return grid.str();
 }
 
 std::string xdmf_document(const std::string& grids) {
   return "<?xml version=\"1.0\" ?>\n"
-         "<Xdmf Version=\"3.0\">\n"
+         "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n"
          "  <Domain>\n"
          "    <Grid Name=\"frames\" GridType=\"Collection\" CollectionType=\"Temporal\">\n" +
          grids +
@@ -227,7 +247,12 @@ struct FrameWriter::Impl {
   void create_output_directory() const;
   void write_mesh(const FrameWriterLayout& layout, std::span<const std::size_t> tet_order,
                   std::span<const index_t> sorted_tet_ids);
-  void write_frame(int frame, double time, std::span<const double> owned_positions);
+  void write_frame(int frame, double time, std::span<const double> owned_positions,
+                   std::span<const double> owned_velocities);
+  // Creates `name` in `group` and writes the owned rows, already in
+  // sorted_vertex_ids order.
+  void write_vertex_dataset(hid_t group, const char* name, std::span<const double> sorted_rows,
+                            const std::string& where);
 
   MPI_Comm comm;  // the caller's; it outlives the writer
   int rank = 0;
@@ -238,6 +263,8 @@ struct FrameWriter::Impl {
   // file, where vertex_order[k'] == k.
   std::vector<std::size_t> vertex_order;
   std::vector<index_t> sorted_vertex_ids;
+  // The owned rest positions in sorted_vertex_ids order, for the displacements.
+  std::vector<double> sorted_rest_positions;
   std::string xdmf_grids;  // rank 0: one <Grid> per written frame
   // Released in reverse order of declaration: the transfer list, then the file.
   Hid file;
@@ -256,6 +283,7 @@ FrameWriter::Impl::Impl(MPI_Comm comm_, const std::string& dir_, const FrameWrit
   const auto tet_order = ascending_order(layout.tet_ids);
   const auto sorted_tet_ids = permute_rows(layout.tet_ids, tet_order, 1);
   verify_layout(layout, sorted_tet_ids);
+  sorted_rest_positions = permute_rows(layout.owned_rest_positions, vertex_order, 3);
 
   create_output_directory();
   const std::string h5 = (dir / kH5Name).string();
@@ -309,7 +337,7 @@ void FrameWriter::Impl::resume(int last) {
               H5Aclose, "H5Aopen_by_name", where + " attribute time");
     double time = 0;
     check(H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, &time), "H5Aread", where);
-    xdmf_grids += xdmf_grid(std::stoi(name), time, num_vertices, num_tets);
+    xdmf_grids += xdmf_grid(std::stoi(name), time, num_vertices, num_tets, xdmf_grids.empty());
   }
   check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush", h5);
   int error = 0;
@@ -361,12 +389,8 @@ void FrameWriter::Impl::write_mesh(const FrameWriterLayout& layout,
   Hid mesh = owned(H5Gcreate2(file.get(), "/mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
                    "H5Gcreate2", h5 + ":/mesh");
 
-  const std::string rest_where = h5 + ":/mesh/rest_positions";
-  Hid rest =
-      create_dataset(mesh.get(), "rest_positions", H5T_IEEE_F64LE, num_vertices, 3, rest_where);
-  const auto sorted_rest = permute_rows(layout.owned_rest_positions, vertex_order, 3);
-  write_rows(rest.get(), collective_transfer.get(), sorted_vertex_ids, 3,
-             std::span<const double>(sorted_rest), rest_where);
+  write_vertex_dataset(mesh.get(), "rest_positions", sorted_rest_positions,
+                       h5 + ":/mesh/rest_positions");
 
   const std::string tets_where = h5 + ":/mesh/tets";
   Hid tets = create_dataset(mesh.get(), "tets", H5T_STD_I32LE, num_tets, 4, tets_where);
@@ -375,40 +399,53 @@ void FrameWriter::Impl::write_mesh(const FrameWriterLayout& layout,
              std::span<const index_t>(sorted_tet_vertices), tets_where);
 }
 
-void FrameWriter::Impl::write_frame(int frame, double time,
-                                    std::span<const double> owned_positions) {
+void FrameWriter::Impl::write_vertex_dataset(hid_t group, const char* name,
+                                             std::span<const double> sorted_rows,
+                                             const std::string& where) {
+  Hid dataset = create_dataset(group, name, H5T_IEEE_F64LE, num_vertices, 3, where);
+  write_rows(dataset.get(), collective_transfer.get(), sorted_vertex_ids, 3, sorted_rows, where);
+}
+
+void FrameWriter::Impl::write_frame(int frame, double time, std::span<const double> owned_positions,
+                                    std::span<const double> owned_velocities) {
+  const std::size_t owned_values = 3 * sorted_vertex_ids.size();
   verify_on_every_rank(
       comm,
-      frame >= 0 && frame <= kLastFrame && owned_positions.size() == 3 * sorted_vertex_ids.size(),
+      frame >= 0 && frame <= kLastFrame && owned_positions.size() == owned_values &&
+          owned_velocities.size() == owned_values,
       detail::concat("FrameWriter::write_frame(", frame, "): the frame must be in [0, ", kLastFrame,
-                     "] and come with 3 positions per owned vertex"));
+                     "] and come with 3 positions and 3 velocities per owned vertex"));
   const std::string h5 = (dir / kH5Name).string();
   const std::string group_path = "/frames/" + frame_name(frame);
+  const std::string where = h5 + ":" + group_path;
   {
     Hid group =
         owned(H5Gcreate2(file.get(), group_path.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-              H5Gclose, "H5Gcreate2", h5 + ":" + group_path);
+              H5Gclose, "H5Gcreate2", where);
 
-    const std::string time_where = h5 + ":" + group_path + " attribute time";
+    const std::string time_where = where + " attribute time";
     Hid scalar = owned(H5Screate(H5S_SCALAR), H5Sclose, "H5Screate", time_where);
     Hid time_attribute = owned(
         H5Acreate2(group.get(), "time", H5T_IEEE_F64LE, scalar.get(), H5P_DEFAULT, H5P_DEFAULT),
         H5Aclose, "H5Acreate2", time_where);
     check(H5Awrite(time_attribute.get(), H5T_NATIVE_DOUBLE, &time), "H5Awrite", time_where);
 
-    const std::string positions_where = h5 + ":" + group_path + "/positions";
-    Hid positions =
-        create_dataset(group.get(), "positions", H5T_IEEE_F64LE, num_vertices, 3, positions_where);
     const auto sorted_positions = permute_rows(owned_positions, vertex_order, 3);
-    write_rows(positions.get(), collective_transfer.get(), sorted_vertex_ids, 3,
-               std::span<const double>(sorted_positions), positions_where);
+    write_vertex_dataset(group.get(), "positions", sorted_positions, where + "/positions");
+    std::vector<double> sorted_displacements(sorted_positions.size());
+    for (std::size_t k = 0; k < sorted_positions.size(); ++k)
+      sorted_displacements[k] = sorted_positions[k] - sorted_rest_positions[k];
+    write_vertex_dataset(group.get(), "displacement", sorted_displacements,
+                         where + "/displacement");
+    write_vertex_dataset(group.get(), "velocity", permute_rows(owned_velocities, vertex_order, 3),
+                         where + "/velocity");
   }
   check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush", h5);
 
   // The index names the frame only once its data is in the file.
   int error = 0;
   if (rank == 0) {
-    xdmf_grids += xdmf_grid(frame, time, num_vertices, num_tets);
+    xdmf_grids += xdmf_grid(frame, time, num_vertices, num_tets, xdmf_grids.empty());
     error = write_file_atomically(dir / kXdmfName, xdmf_document(xdmf_grids));
   }
   throw_on_every_rank_if_failed(comm, error,
@@ -421,8 +458,9 @@ FrameWriter::FrameWriter(MPI_Comm comm, const std::string& dir, const FrameWrite
 
 FrameWriter::~FrameWriter() = default;
 
-void FrameWriter::write_frame(int frame, double time, std::span<const double> owned_positions) {
-  impl_->write_frame(frame, time, owned_positions);
+void FrameWriter::write_frame(int frame, double time, std::span<const double> owned_positions,
+                              std::span<const double> owned_velocities) {
+  impl_->write_frame(frame, time, owned_positions, owned_velocities);
 }
 
 std::string FrameWriter::h5_path() const { return (impl_->dir / kH5Name).string(); }

@@ -4,13 +4,25 @@
 // as a time series. Vertices and tets are stored in the input mesh's order,
 // whatever the rank count.
 //
-// File layout (DIR/frames.h5):
-//   /mesh/tets               int32 [num_tets, 4]      global vertex ids, input order
-//   /mesh/rest_positions     float64 [num_vertices, 3]
-//   /frames/NNNNNN/positions float64 [num_vertices, 3] one group per written frame
+// File layout (DIR/frames.h5), every vertex array float64 [num_vertices, 3]
+// in input vertex order:
+//   /mesh/tets                  int32 [num_tets, 4]  global vertex ids, input order
+//   /mesh/rest_positions
+//   /frames/NNNNNN/positions    one group per written frame, NNNNNN its number
+//   /frames/NNNNNN/displacement positions - rest_positions
+//   /frames/NNNNNN/velocity
 //   attribute "time" (float64) on each frame group
-// DIR/frames.xdmf is rewritten after every frame and the HDF5 file flushed,
-// so a run killed mid-way leaves a readable series of every completed frame.
+// DIR/frames.xdmf: one temporal collection with one Uniform grid per frame,
+// all data by reference into frames.h5 (relative paths, so DIR can move).
+// Each grid has its Time, the frame's positions as Geometry (ParaView shows
+// the deformed body) and node Attributes "displacement" and "velocity"
+// (vectors). The first grid holds the Topology; the others include it by
+// xpointer. meshio's TimeSeriesReader takes its points and cells from that
+// first grid: for a run, frame 0, written before the first step, at rest. So
+// read_points_cells() is the rest mesh, and read_data(k) gives frame k's time
+// and point data "displacement" and "velocity" (it skips the Geometry).
+// frames.xdmf is rewritten after every frame and the HDF5 file flushed, so a
+// run killed mid-way leaves a readable series of every completed frame.
 #include <mpi.h>
 
 #include <memory>
@@ -51,11 +63,12 @@ class FrameWriter {
   FrameWriter(const FrameWriter&) = delete;
   FrameWriter& operator=(const FrameWriter&) = delete;
 
-  // Collective. `owned_positions` holds 3 doubles per owned vertex, in the
-  // order of layout.owned_vertex_ids; `frame` in [0, 999999], each written once,
-  // and `time` the same on every rank. Returns once the frame is flushed to
-  // frames.h5 and listed in frames.xdmf.
-  void write_frame(int frame, double time, std::span<const double> owned_positions);
+  // Collective. `owned_positions` and `owned_velocities` hold 3 doubles per
+  // owned vertex, in the order of layout.owned_vertex_ids; `frame` in
+  // [0, 999999], each written once, and `time` the same on every rank. Returns
+  // once the frame is flushed to frames.h5 and listed in frames.xdmf.
+  void write_frame(int frame, double time, std::span<const double> owned_positions,
+                   std::span<const double> owned_velocities);
 
   std::string h5_path() const;
   std::string xdmf_path() const;

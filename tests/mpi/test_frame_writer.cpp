@@ -12,6 +12,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/error.hpp"
@@ -43,6 +44,10 @@ double rest_position(index_t vertex, int axis) { return vertex + 0.1 * axis; }
 
 double frame_position(index_t vertex, int axis, int frame) {
   return 1000.0 * frame + vertex + 0.01 * axis + 1.0 / 3.0;
+}
+
+double frame_velocity(index_t vertex, int axis, int frame) {
+  return -0.5 * frame + 0.25 * vertex - axis / 7.0;
 }
 
 double frame_time(int frame) { return 0.1 * frame + 1e-7; }
@@ -102,6 +107,16 @@ struct OwnedPart {
     for (index_t vertex : vertex_ids)
       for (int axis = 0; axis < 3; ++axis) positions.push_back(frame_position(vertex, axis, frame));
     return positions;
+  }
+  std::vector<double> velocities(int frame) const {
+    std::vector<double> velocities;
+    for (index_t vertex : vertex_ids)
+      for (int axis = 0; axis < 3; ++axis)
+        velocities.push_back(frame_velocity(vertex, axis, frame));
+    return velocities;
+  }
+  void write(FrameWriter& writer, int frame) const {
+    writer.write_frame(frame, frame_time(frame), positions(frame), velocities(frame));
   }
 };
 
@@ -194,14 +209,22 @@ void check_h5(const fs::path& h5_path) {
   for (int frame : kFrames) {
     const std::string group = "/frames/" + frame_name(frame);
     EXPECT_EQ(read_time_attribute(file, group), frame_time(frame)) << group;
-    EXPECT_EQ(dataset_dims(file, group + "/positions"), vertex_dims) << group;
-    const auto positions =
-        read_dataset<double>(file, group + "/positions", H5T_NATIVE_DOUBLE, 3 * kNumVertices);
-    ASSERT_EQ(positions.size(), std::size_t{3 * kNumVertices}) << group;
-    for (index_t vertex = 0; vertex < kNumVertices; ++vertex)
-      for (int axis = 0; axis < 3; ++axis)
-        EXPECT_EQ(positions[3 * vertex + axis], frame_position(vertex, axis, frame))
-            << group << " vertex " << vertex;
+    // Each vertex array of the frame, by name, and its value at (vertex, axis).
+    const std::vector<std::pair<std::string, std::function<double(index_t, int)>>> arrays = {
+        {"positions", [&](index_t v, int a) { return frame_position(v, a, frame); }},
+        {"displacement",
+         [&](index_t v, int a) { return frame_position(v, a, frame) - rest_position(v, a); }},
+        {"velocity", [&](index_t v, int a) { return frame_velocity(v, a, frame); }}};
+    for (const auto& [name, expected] : arrays) {
+      const std::string path = group + "/" + name;
+      EXPECT_EQ(dataset_dims(file, path), vertex_dims) << path;
+      const auto values = read_dataset<double>(file, path, H5T_NATIVE_DOUBLE, 3 * kNumVertices);
+      ASSERT_EQ(values.size(), std::size_t{3 * kNumVertices}) << path;
+      for (index_t vertex = 0; vertex < kNumVertices; ++vertex)
+        for (int axis = 0; axis < 3; ++axis)
+          EXPECT_EQ(values[3 * vertex + axis], expected(vertex, axis))
+              << path << " vertex " << vertex << " axis " << axis;
+    }
   }
   H5Fclose(file);
 }
@@ -229,25 +252,41 @@ std::vector<double> time_values(const std::string& xdmf) {
   return times;
 }
 
-// The XDMF index as text: one Uniform grid per frame, relative paths, right sizes.
+// The XDMF index as text: one Uniform grid per frame, the topology in the
+// first and included by the others, three vertex arrays per frame, relative
+// paths, right sizes.
 void check_xdmf(const fs::path& xdmf_path, std::size_t frames_written) {
   const std::string xdmf = read_text(xdmf_path);
   EXPECT_EQ(count_occurrences(xdmf, "CollectionType=\"Temporal\""), 1u) << xdmf;
   EXPECT_EQ(count_occurrences(xdmf, "GridType=\"Uniform\""), frames_written) << xdmf;
   EXPECT_EQ(count_occurrences(xdmf, "<Time Value="), frames_written) << xdmf;
-  EXPECT_EQ(count_occurrences(xdmf, "TopologyType=\"Tetrahedron\" NumberOfElements=\"10\""),
-            frames_written);
-  EXPECT_EQ(count_occurrences(xdmf, "Dimensions=\"10 4\" NumberType=\"Int\" Precision=\"4\""),
-            frames_written);
-  EXPECT_EQ(count_occurrences(xdmf, ">frames.h5:/mesh/tets</DataItem>"), frames_written);
+  EXPECT_EQ(count_occurrences(xdmf, "TopologyType=\"Tetrahedron\" NumberOfElements=\"10\""), 1u);
+  EXPECT_EQ(count_occurrences(xdmf, "Dimensions=\"10 4\" NumberType=\"Int\" Precision=\"4\""), 1u);
+  EXPECT_EQ(count_occurrences(xdmf, ">frames.h5:/mesh/tets</DataItem>"), 1u);
+  EXPECT_EQ(count_occurrences(xdmf, "xmlns:xi=\"http://www.w3.org/2001/XInclude\""), 1u);
+  EXPECT_EQ(count_occurrences(
+                xdmf, "<xi:include xpointer=\"xpointer(/Xdmf/Domain/Grid/Grid[1]/Topology)\"/>"),
+            frames_written - 1);
+  EXPECT_LT(xdmf.find("<Topology"), xdmf.find("<xi:include")) << "the first grid holds it";
   EXPECT_EQ(count_occurrences(xdmf, "GeometryType=\"XYZ\""), frames_written);
+  EXPECT_EQ(count_occurrences(xdmf, "AttributeType=\"Vector\" Center=\"Node\""),
+            2 * frames_written);
   EXPECT_EQ(count_occurrences(xdmf, "Dimensions=\"20 3\" NumberType=\"Float\" Precision=\"8\""),
-            frames_written);
+            3 * frames_written);
   std::vector<double> expected_times;
   for (std::size_t k = 0; k < frames_written; ++k) {
-    const std::string name = frame_name(kFrames[k]);
-    EXPECT_EQ(count_occurrences(xdmf, ">frames.h5:/frames/" + name + "/positions</DataItem>"), 1u)
-        << name;
+    const std::string group = "frames.h5:/frames/" + frame_name(kFrames[k]);
+    EXPECT_EQ(count_occurrences(xdmf, ">" + group + "/positions</DataItem>"), 1u) << group;
+    for (const char* name : {"displacement", "velocity"}) {
+      EXPECT_EQ(count_occurrences(xdmf, "<Attribute Name=\"" + std::string(name) +
+                                            "\" AttributeType=\"Vector\" Center=\"Node\">\n"
+                                            "          <DataItem Dimensions=\"20 3\" "
+                                            "NumberType=\"Float\" Precision=\"8\" "
+                                            "Format=\"HDF\">" +
+                                            group + "/" + name + "</DataItem>"),
+                1u)
+          << group << " " << name;
+    }
     expected_times.push_back(frame_time(kFrames[k]));
   }
   EXPECT_EQ(time_values(xdmf), expected_times) << "times in frame order, exact";
@@ -267,7 +306,7 @@ void write_and_check(const std::string& test_name, const std::function<int(index
     EXPECT_EQ(writer.h5_path(), (output / "frames.h5").string());
     EXPECT_EQ(writer.xdmf_path(), (output / "frames.xdmf").string());
     for (std::size_t k = 0; k < kFrames.size(); ++k) {
-      writer.write_frame(kFrames[k], frame_time(kFrames[k]), part.positions(kFrames[k]));
+      part.write(writer, kFrames[k]);
       // Each completed frame is listed at once (what a killed run leaves).
       if (comm_rank() == 0) check_xdmf(output / "frames.xdmf", k + 1);
     }
@@ -288,19 +327,48 @@ TEST(FrameWriter, RanksWithoutRowsStillTakePart) {
       "rank0_owns_all", [](index_t) { return 0; }, [](index_t) { return 0; });
 }
 
+// A run killed after frame 12 but checkpointed at frame 7 resumes after 7:
+// frame 12 is dropped, the index lists frames 0 and 7 in full again, and
+// frame 12 can be written anew.
+TEST(FrameWriter, ResumingDropsLaterFramesAndRebuildsTheIndex) {
+  TestDirectory dir("resume");
+  const int size = comm_size();
+  const OwnedPart part = owned_part([size](index_t vertex) { return (vertex / 3) % size; },
+                                    [size](index_t tet) { return tet % size; });
+  {
+    FrameWriter writer(MPI_COMM_WORLD, dir.path().string(), part.layout());
+    for (int frame : kFrames) part.write(writer, frame);
+  }
+  {
+    FrameWriter resumed(MPI_COMM_WORLD, dir.path().string(), part.layout(), kFrames[1]);
+    if (comm_rank() == 0) {
+      check_xdmf(dir.path() / "frames.xdmf", 2);
+      const hid_t file = H5Fopen((dir.path() / "frames.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+      EXPECT_EQ(count_links(file, "/frames"), 2u);
+      H5Fclose(file);
+    }
+    part.write(resumed, kFrames[2]);
+  }
+  if (comm_rank() == 0) {
+    check_xdmf(dir.path() / "frames.xdmf", kFrames.size());
+    check_h5(dir.path() / "frames.h5");
+  }
+  expect_all_ranks_passed();
+}
+
 TEST(FrameWriter, WritingAFrameTwiceThrowsHdf5ErrorOnEveryRank) {
   TestDirectory dir("duplicate_frame");
   const int size = comm_size();
   const OwnedPart part = owned_part([size](index_t vertex) { return vertex % size; },
                                     [size](index_t tet) { return tet % size; });
   FrameWriter writer(MPI_COMM_WORLD, dir.path().string(), part.layout());
-  writer.write_frame(3, 0.5, part.positions(3));
+  part.write(writer, 3);
   H5E_auto2_t print_errors = nullptr;
   void* print_errors_data = nullptr;
   H5Eget_auto2(H5E_DEFAULT, &print_errors, &print_errors_data);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // the HDF5 error stack is expected here
   try {
-    writer.write_frame(3, 0.5, part.positions(3));
+    part.write(writer, 3);
     ADD_FAILURE() << "no error for a frame written twice";
   } catch (const Hdf5Error& error) {
     const std::string message = error.what();
