@@ -5,9 +5,9 @@
 // printed once, by the lowest failing rank.
 #include <mpi.h>
 
-#include <cstdio>
 #include <string>
 
+#include "app/console.hpp"
 #include "common/error.hpp"
 
 namespace descent {
@@ -26,6 +26,8 @@ auto agree(MPI_Comm comm, Phase&& phase) -> decltype(phase()) {
   Result result{};
   try {
     result = phase();
+  } catch (const ReportedFailure&) {
+    throw;  // an inner agree() has already made every rank throw this
   } catch (const Error& e) {
     error = e.what();
   } catch (const std::exception& e) {
@@ -43,10 +45,9 @@ auto agree(MPI_Comm comm, Phase&& phase) -> decltype(phase()) {
   MPI_Allreduce(&offer, &reporter, 1, MPI_INT, MPI_MIN, comm);
   if (rank == reporter) {
     if (size > 1)
-      std::fprintf(stderr, "descent: error (rank %d): %s\n", rank, error.c_str());
+      report_error("rank %d: %s", rank, error.c_str());
     else
-      std::fprintf(stderr, "descent: error: %s\n", error.c_str());
-    std::fflush(stderr);
+      report_error("%s", error.c_str());
   }
   throw ReportedFailure();
 }

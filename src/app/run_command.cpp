@@ -9,9 +9,13 @@
 #include <limits>
 #include <string>
 
+#include "app/agree.hpp"
+#include "app/console.hpp"
 #include "app/non_finite_stop.hpp"
+#include "app/run_identity.hpp"
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
+#include "app/stop_request.hpp"
 #include "common/error.hpp"
 #include "io/checkpoint.hpp"
 #include "io/frame_writer.hpp"
@@ -35,18 +39,87 @@ TetOutput tet_output(const LocalMesh& local) {
 }
 
 // One line per fixed region with the number of vertices it holds; a region
-// that holds none is almost always a mistake in its box, so it is flagged.
-void report_fixed_regions(const Scene& scene, const Mesh& mesh) {
+// that holds none is almost always a mistake in its box, so it is a warning
+// (on stderr, even with --quiet).
+void report_fixed_regions(const Scene& scene, const Mesh& mesh, bool talk) {
   for (std::size_t r = 0; r < scene.fixed.size(); ++r) {
     const FixedRegion& region = scene.fixed[r];
     index_t count = 0;
     for (index_t v = 0; v < mesh.num_vertices(); ++v)
       count += region.contains(&mesh.positions[3 * static_cast<std::size_t>(v)]) ? 1 : 0;
-    std::printf("%sfixed.%zu: %d vertices in [%g, %g, %g] - [%g, %g, %g], axes %s\n",
-                count == 0 ? "warning: " : "", r, count, region.box_min[0], region.box_min[1],
-                region.box_min[2], region.box_max[0], region.box_max[1], region.box_max[2],
-                region.axes.c_str());
+    const auto& lo = region.box_min;
+    const auto& hi = region.box_max;
+    if (count == 0)
+      warn("fixed.%zu holds no vertex: [%g, %g, %g] - [%g, %g, %g] misses the mesh", r, lo[0],
+           lo[1], lo[2], hi[0], hi[1], hi[2]);
+    else if (talk)
+      inform("fixed.%zu: %d vertices in [%g, %g, %g] - [%g, %g, %g], axes %s", r, count, lo[0],
+             lo[1], lo[2], hi[0], hi[1], hi[2], region.axes.c_str());
   }
+}
+
+// Why a restart finds no checkpoint of this rank count: a run on another
+// rank count (named), no checkpoints at all, or no such directory.
+std::string missing_checkpoint(const std::string& dir, int size) {
+  namespace fs = std::filesystem;
+  const fs::path where = fs::path(dir) / "checkpoint";
+  std::error_code listed;
+  std::vector<int> counts;
+  for (const auto& entry : fs::directory_iterator(where, listed)) {
+    int ranks = 0;
+    if (std::sscanf(entry.path().filename().c_str(), "rank-0-of-%d.bin", &ranks) == 1 &&
+        entry.path().extension() == ".bin")
+      counts.push_back(ranks);
+  }
+  if (listed)
+    return detail::concat("--restart: ", where.string(), " does not exist: is ", dir,
+                          " the output directory of the run to continue?");
+  if (counts.empty())
+    return detail::concat("--restart: ", where.string(),
+                          " holds no checkpoint (the run wrote none: output.checkpoint_every = 0, "
+                          "or it stopped before its first)");
+  std::sort(counts.begin(), counts.end());
+  std::string found;
+  for (int c : counts) found += (found.empty() ? "" : ", ") + std::to_string(c);
+  return detail::concat("--restart: ", where.string(), " holds checkpoints of a run on ", found,
+                        " rank(s), not ", size, ": restart it on ", counts.front(), " rank(s)");
+}
+
+// The checkpoint --restart continues from: the newest frame every rank has
+// one of (a kill between two ranks' writes leaves some one newer), refused
+// unless it belongs to this run. Collective.
+Checkpoint restart_checkpoint(MPI_Comm comm, const std::string& dir, const std::string& identity) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const std::string path = checkpoint_path(dir, rank, size);
+  const std::vector<Checkpoint> generations = agree(comm, [&] {
+    namespace fs = std::filesystem;
+    if (!fs::exists(path) && !fs::exists(path + ".prev"))
+      throw InputError(missing_checkpoint(dir, size));
+    return read_checkpoint_generations(path);
+  });
+  int frame = generations.front().frame;
+  MPI_Allreduce(MPI_IN_PLACE, &frame, 1, MPI_INT, MPI_MIN, comm);
+  return agree(comm, [&] {
+    const auto chosen = std::find_if(generations.begin(), generations.end(),
+                                     [frame](const Checkpoint& c) { return c.frame == frame; });
+    if (chosen == generations.end())
+      throw InputError(
+          detail::concat("rank ", rank, " has no checkpoint of frame ", frame, " in ", path));
+    if (chosen->identity.empty()) {
+      if (rank == 0)
+        warn("%s predates run identities: whether it belongs to this scene is not checked",
+             path.c_str());
+    } else if (const std::string differs = identity_difference(chosen->identity, identity);
+               !differs.empty()) {
+      throw InputError(detail::concat(
+          "--restart: ", path, " belongs to another run: ", differs,
+          ". Restart with the scene, mesh and precision that made it (a restart may change "
+          "time.frames, output.every and output.checkpoint_every)"));
+    }
+    return *chosen;
+  });
 }
 
 // The directory this run writes to: `dir` unless it already holds a run
@@ -81,8 +154,11 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   MPI_Comm_rank(comm, &rank);
   std::string note;
   const BackendChoice backend = choose_backend(comm, options.backend, &note);
-  // Why no GPU is used, or which one.
-  if (rank == 0 && !note.empty() && !options.quiet) std::printf("descent: %s\n", note.c_str());
+  // Which GPU is used; why none is, only to those who asked for CUDA or for
+  // detail (a CPU-only machine is not news).
+  const bool asked_for_cuda = options.backend.backend == "cuda" || options.verbose;
+  const bool tell_note = backend.kind == BackendKind::cuda || asked_for_cuda;
+  if (rank == 0 && !note.empty() && !options.quiet && tell_note) inform("%s", note.c_str());
   const bool on_gpu = backend.kind == BackendKind::cuda;
   const bool use_float = options.precision == "float" || (options.precision == "auto" && on_gpu);
   return use_float ? run_scene_in<float>(comm, scene, options, backend)
@@ -98,26 +174,30 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const bool talk = rank == 0 && !options.quiet;
+  const char* precision = sizeof(Real) == 4 ? "float" : "double";
 
   MeshReadReport report;
   const Mesh mesh = build_scene_mesh(scene.mesh, &report);
-  if (talk) {
-    for (const auto& w : report.warnings) std::printf("warning: %s\n", w.c_str());
-    std::printf("descent: %s: %d vertices, %d tets on %d rank(s) x %d thread(s), %s\n",
-                mesh.source.c_str(), mesh.num_vertices(), mesh.num_tets(), size,
-                omp_get_max_threads(), sizeof(Real) == 4 ? "float" : "double");
-  }
-
-  if (talk) report_fixed_regions(scene, mesh);
+  if (rank == 0)
+    for (const auto& w : report.warnings) warn("%s", w.c_str());
+  if (talk)
+    inform("%s: %d vertices, %d tets on %d rank(s) x %d thread(s), %s", mesh.source.c_str(),
+           mesh.num_vertices(), mesh.num_tets(), size, omp_get_max_threads(), precision);
+  if (rank == 0) report_fixed_regions(scene, mesh, talk);
 
   Simulation<Real> sim(comm, scene, mesh, backend);
   if (talk && backend.kind != BackendKind::cpu)
-    std::printf("descent: backend %s: %s\n", to_string(backend.kind),
-                sim.device_memory_report().c_str());
+    inform("backend %s: %s", to_string(backend.kind), sim.device_memory_report().c_str());
   if (talk && size > 1)
     std::printf("%s\n", describe(partition_quality(mesh, sim.tet_part(), size)).c_str());
 
   const LocalMesh& local = sim.local_mesh();
+  const std::string identity = run_identity(scene, mesh_digest(comm, local), precision);
+  auto checkpoint_of = [&](int frame) {
+    Checkpoint c = sim.checkpoint(frame);
+    c.identity = identity;
+    return c;
+  };
   const TetOutput tets = tet_output(local);
   const std::vector<double> rest(local.rest_positions.begin(),
                                  local.rest_positions.begin() + 3 * local.num_owned);
@@ -128,29 +208,21 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   layout.tet_ids = tets.ids;
   layout.tet_vertices = tets.vertices;
   layout.owned_rest_positions = rest;
-  // A restart continues in place from the newest frame every rank has a
-  // checkpoint of (a kill between two ranks' writes leaves some one newer).
+  // A restart continues in place.
   int first_frame = 1;
   if (options.restart) {
-    const std::vector<Checkpoint> generations =
-        read_checkpoint_generations(checkpoint_path(scene.output.dir, rank, size));
-    int frame = generations.front().frame;
-    MPI_Allreduce(MPI_IN_PLACE, &frame, 1, MPI_INT, MPI_MIN, comm);
-    const auto chosen = std::find_if(generations.begin(), generations.end(),
-                                     [frame](const Checkpoint& c) { return c.frame == frame; });
-    if (chosen == generations.end())
-      throw InputError(detail::concat("rank ", rank, " has no checkpoint of frame ", frame, " in ",
-                                      scene.output.dir, "/checkpoint"));
-    sim.restore(*chosen);
-    first_frame = frame + 1;
-    if (talk) std::printf("descent: restarting after frame %d\n", frame);
+    const Checkpoint chosen = restart_checkpoint(comm, scene.output.dir, identity);
+    sim.restore(chosen);
+    first_frame = chosen.frame + 1;
+    if (talk) inform("restarting after frame %d", chosen.frame);
   }
   const std::string out_dir = options.restart
                                   ? scene.output.dir
                                   : output_directory(comm, scene.output.dir, options.overwrite);
-  if (talk && out_dir != scene.output.dir)
-    std::printf("descent: %s holds an earlier run; writing to %s (--overwrite reuses it)\n",
-                scene.output.dir.c_str(), out_dir.c_str());
+  // Said even with --quiet: the output is not where it was asked for.
+  if (rank == 0 && out_dir != scene.output.dir)
+    warn("%s holds an earlier run; writing to %s (--overwrite reuses it)", scene.output.dir.c_str(),
+         out_dir.c_str());
   const int resume_after = options.restart ? first_frame - 1 : -1;
   FrameWriter frames(comm, out_dir, layout, resume_after);
   StatsWriter stats(comm, out_dir, sim.measurement_names(), resume_after);
@@ -160,20 +232,41 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   int last_written =
       options.restart ? (resume_after % scene.output.every == 0 ? resume_after : -1) : 0;
 
+  // The newest checkpoint on disk (-1: none of this process), so a stop
+  // writes one only where it lacks.
+  int last_checkpoint = -1;
+
   const double h = scene.time.dt;
+  int frames_run = 0;
   double total_ms = 0;
   long total_iterations = 0;
   int stalled_steps = 0, retried_steps = 0;
   constexpr int kStallWarnings = 5;
   int nonfinite_steps = 0, nonfinite_warnings = 0;  // the latter on this rank
   const int checkpoint_every = scene.output.checkpoint_every;
+  const StopRequest stop;
   for (int frame = first_frame; frame <= scene.time.frames; ++frame) {
+    // Before the step, so a signal during set-up stops before any work.
+    if (const int signal = stop.agreed(comm)) {
+      // Frames and stats are flushed as they are written; what --restart
+      // needs is the last finished frame's checkpoint.
+      if (last_checkpoint != frame - 1)
+        write_checkpoint(checkpoint_path(out_dir, rank, size), checkpoint_of(frame - 1));
+      if (rank == 0)
+        std::fprintf(stderr,
+                     "descent: %s: stopped after frame %d of %d, checkpoint in %s/checkpoint; "
+                     "continue with the same command plus --restart --out %s\n",
+                     signal_name(signal), frame - 1, scene.time.frames, out_dir.c_str(),
+                     out_dir.c_str());
+      return kStoppedExitCode;
+    }
     const double halo_before = sim.halo_counters().seconds;
     const double reduce_before = sim.reduction_counters().seconds;
     const auto start = std::chrono::steady_clock::now();
     const StepStats step = sim.step();
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    ++frames_run;
     total_ms += ms;
     total_iterations += step.iterations;
 
@@ -206,17 +299,17 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
     // A failed step says more below; a warning would only repeat it. A
     // trial that inverted a tet of a model undefined there met the model's
     // barrier (infinite energy by design): counted in the stats, not warned.
-    const bool warn = step.finite && step.rejected_at.found() &&
-                      step.rejected_at.kind != NonFiniteSite::Kind::inverted_element;
-    if (warn && ++nonfinite_warnings <= kStallWarnings)
+    const bool warn_rollback = step.finite && step.rejected_at.found() &&
+                               step.rejected_at.kind != NonFiniteSite::Kind::inverted_element;
+    if (warn_rollback && ++nonfinite_warnings <= kStallWarnings)
       warn_rolled_back(frame, rank, step.rejected_at);
     nonfinite_steps += step.nonfinite_rollbacks > 0 ? 1 : 0;
     if (rank == 0 && step.finite && step.retried_from_start && ++retried_steps <= kStallWarnings)
-      std::fprintf(stderr,
-                   "warning: frame %d: the predicted initial guess (solver.init = \"%s\") led to "
-                   "no finite state; the step was retaken from its start%s\n",
-                   frame, scene.solver.init.c_str(),
-                   retried_steps == kStallWarnings ? " (further such warnings suppressed)" : "");
+      warn(
+          "frame %d: the predicted initial guess (solver.init = \"%s\") led to no finite "
+          "state; the step was retaken from its start%s",
+          frame, scene.solver.init.c_str(),
+          retried_steps == kStallWarnings ? " (further such warnings suppressed)" : "");
     if (!step.finite) {
       // The body still holds the last good state (the step left it alone):
       // make sure it is on disk, then stop every rank with one message.
@@ -231,16 +324,17 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
       last_written = frame;
     }
     // After the frame's output, so a restart never lacks a frame it skips.
-    if (checkpoint_every > 0 && (frame % checkpoint_every == 0 || frame == scene.time.frames))
-      write_checkpoint(checkpoint_path(out_dir, rank, size), sim.checkpoint(frame));
-    stalled_steps += row.stalled;
-    if (rank == 0 && step.stalled && stalled_steps <= kStallWarnings) {
-      std::fprintf(stderr,
-                   "warning: frame %d: alpha fell below solver.alpha_min = %g after %d "
-                   "iterations; the step ended unconverged%s\n",
-                   frame, scene.solver.alpha_min, step.iterations,
-                   stalled_steps == kStallWarnings ? " (further such warnings suppressed)" : "");
+    if (checkpoint_every > 0 && (frame % checkpoint_every == 0 || frame == scene.time.frames)) {
+      write_checkpoint(checkpoint_path(out_dir, rank, size), checkpoint_of(frame));
+      last_checkpoint = frame;
     }
+    stalled_steps += row.stalled;
+    if (rank == 0 && step.stalled && stalled_steps <= kStallWarnings)
+      warn(
+          "frame %d: alpha fell below solver.alpha_min = %g after %d iterations; the step "
+          "ended unconverged%s",
+          frame, scene.solver.alpha_min, step.iterations,
+          stalled_steps == kStallWarnings ? " (further such warnings suppressed)" : "");
     if (talk) {
       std::printf("frame %4d/%d  %8.1f ms  alpha %.3g  rollbacks %d%s\n", frame, scene.time.frames,
                   ms, step.alpha, step.rollbacks,
@@ -248,29 +342,32 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
       std::fflush(stdout);
     }
   }
+  // The counts are of the frames this process ran (after a restart, not
+  // those before it).
   if (rank == 0 && stalled_steps > 0)
-    std::fprintf(stderr,
-                 "warning: %d of %d steps ended at alpha_min (column `stalled` in stats.csv)\n",
-                 stalled_steps, scene.time.frames);
+    warn("%d of %d steps ended at alpha_min (column `stalled` in stats.csv)", stalled_steps,
+         frames_run);
   // Mostly trials that inverted a tet of the neo-Hookean family (infinite
   // energy by design), so a note, not a warning; NaNs were warned above.
   if (talk && nonfinite_steps > 0)
-    std::printf(
-        "descent: %d of %d steps rolled back trial states of non-finite energy (column "
-        "`nonfinite_rollbacks` in stats.csv)\n",
-        nonfinite_steps, scene.time.frames);
-  if (talk && scene.time.frames > 0) {
+    inform(
+        "%d of %d steps rolled back trial states of non-finite energy (column "
+        "`nonfinite_rollbacks` in stats.csv)",
+        nonfinite_steps, frames_run);
+  if (talk && frames_run == 0)
+    inform("nothing to run: the run already has all %d frames (raise time.frames to go on)",
+           scene.time.frames);
+  if (talk && frames_run > 0) {
     const double ns_per_tet_iteration =
         total_iterations > 0
             ? 1e6 * total_ms / (static_cast<double>(mesh.num_tets()) * total_iterations)
             : 0.0;
-    std::printf("descent: %d frames in %.1f s, %.1f ms/frame, %.1f ns per tet-iteration\n",
-                scene.time.frames, total_ms / 1e3, total_ms / scene.time.frames,
-                ns_per_tet_iteration);
+    inform("%d frames in %.1f s, %.1f ms/frame, %.1f ns per tet-iteration", frames_run,
+           total_ms / 1e3, total_ms / frames_run, ns_per_tet_iteration);
     const std::string timing = sim.stepper_timing_report();
-    if (!timing.empty()) std::printf("descent: %s\n", timing.c_str());
-    std::printf("descent: wrote %s, %s and %s\n", frames.h5_path().c_str(),
-                frames.xdmf_path().c_str(), stats.path().c_str());
+    if (!timing.empty()) inform("%s", timing.c_str());
+    inform("wrote %s, %s and %s", frames.h5_path().c_str(), frames.xdmf_path().c_str(),
+           stats.path().c_str());
   }
   return 0;
 }

@@ -11,7 +11,8 @@
 namespace descent {
 
 struct RunOptions {
-  bool quiet = false;
+  bool quiet = false;    // no progress output (warnings and errors still on stderr)
+  bool verbose = false;  // also say what is only detail, e.g. why no GPU is used
   // Reuse an output directory that already holds a run. Without it such a
   // directory is left alone and the run goes to DIR.1, DIR.2, ...
   bool overwrite = false;
@@ -24,7 +25,8 @@ struct RunOptions {
   BackendRequest backend;  // --backend, --assembly, --share-device, --no-graphs
 };
 
-// Returns the process exit code (0 on success). Collective.
+// Returns the process exit code: 0 on success, kStoppedExitCode
+// (app/stop_request.hpp) when a signal stopped the run. Collective.
 int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options);
 
 }  // namespace descent

@@ -12,7 +12,8 @@ namespace descent {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr char kMagic[] = "descent-checkpoint-2\n";
+constexpr char kMagic[] = "descent-checkpoint-3\n";
+constexpr char kMagicVersion2[] = "descent-checkpoint-2\n";
 constexpr char kMagicVersion1[] = "descent-checkpoint-1\n";
 
 template <class T>
@@ -72,6 +73,8 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     put(out, c.widening);
     put(out, std::int32_t(c.steps_since_estimate));
     put(out, std::int32_t(c.reestimate ? 1 : 0));
+    put(out, std::int64_t(c.identity.size()));
+    out.write(c.identity.data(), static_cast<std::streamsize>(c.identity.size()));
     put_array(out, c.q);
     put_array(out, c.v);
     put_array(out, c.v_prev);
@@ -91,7 +94,8 @@ Checkpoint read_checkpoint(const std::string& path) {
   char magic[sizeof kMagic - 1];
   if (!in.read(magic, sizeof magic)) throw InputError(path + " is not a descent checkpoint");
   const bool version1 = std::memcmp(magic, kMagicVersion1, sizeof magic) == 0;
-  if (!version1 && std::memcmp(magic, kMagic, sizeof magic) != 0)
+  const bool version2 = std::memcmp(magic, kMagicVersion2, sizeof magic) == 0;
+  if (!version1 && !version2 && std::memcmp(magic, kMagic, sizeof magic) != 0)
     throw InputError(path + " is not a descent checkpoint");
   Checkpoint c;
   c.num_ranks = get<std::int32_t>(in, path);
@@ -109,6 +113,14 @@ Checkpoint read_checkpoint(const std::string& path) {
     c.widening = get<double>(in, path);
     c.steps_since_estimate = get<std::int32_t>(in, path);
     c.reestimate = get<std::int32_t>(in, path) != 0;
+  }
+  if (!version1 && !version2) {
+    const auto length = get<std::int64_t>(in, path);
+    if (length < 0 || length > (std::int64_t{1} << 24))
+      throw InputError("checkpoint " + path + " declares an impossible identity length");
+    c.identity.resize(static_cast<std::size_t>(length));
+    if (!in.read(c.identity.data(), length))
+      throw InputError("checkpoint " + path + " is truncated");
   }
   c.q = get_array(in, dofs, path);
   c.v = get_array(in, dofs, path);
