@@ -1,17 +1,25 @@
 // The `descent` command line: run a scene, write a generated mesh, report the
 // build. Every subcommand has --help.
+//
+// Exit status: 0 success, 1 a runtime or input error, 2 a usage error (an
+// unknown command, option or value), kStoppedExitCode (75) a run stopped by
+// a signal that --restart continues.
 #include <mpi.h>
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
-#include <cstdio>
+#include <algorithm>
+#include <optional>
+#include <string>
 
 #include "app/agree.hpp"
+#include "app/console.hpp"
 #include "app/default_scene.hpp"
 #include "app/run_command.hpp"
 #include "app/scene_mesh.hpp"
 #include "app/study_command.hpp"
 #include "app/tune_command.hpp"
+#include "common/closest_name.hpp"
 #include "io/mesh_io.hpp"
 #include "io/scene.hpp"
 
@@ -22,6 +30,39 @@ using namespace descent;
 Scene read_scene(const std::string& path, const std::vector<std::string>& overrides) {
   if (path.empty()) return parse_scene(kDefaultScene, "<built-in double helix scene>", overrides);
   return load_scene(path, overrides);
+}
+
+constexpr int kUsageExitCode = 2;
+
+// A count of at least 1, refused in words ("--threads 0" would otherwise
+// print CLI11's range up to the largest double).
+const CLI::Validator kAtLeastOne(
+    [](std::string& text) -> std::string {
+      std::size_t used = 0;
+      long value = 0;
+      try {
+        value = std::stol(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == text.size() && value >= 1) return "";
+      return "must be a whole number of at least 1, not '" + text + "'";
+    },
+    "N>=1");
+
+// The subcommand named by the first argument that is not an option, when it
+// names none: CLI11 would only say that a subcommand is required.
+std::string unknown_subcommand(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return "";
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+  const std::string given = argv[1];
+  if (std::find(names.begin(), names.end(), given) != names.end()) return "";
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  const std::optional<std::string> close = closest_name(given, names);
+  return "unknown command '" + given + "'" + (close ? "; did you mean '" + *close + "'?" : "") +
+         " (commands: " + list + "; descent --help)";
 }
 
 int main_with_mpi(int argc, char** argv) {
@@ -39,6 +80,7 @@ int main_with_mpi(int argc, char** argv) {
   std::string scene_path, out_dir, mesh_out;
   std::vector<std::string> overrides;
   bool quiet = false;
+  bool verbose = false;
   bool overwrite = false;
   bool restart = false;
   int threads = 0;
@@ -52,7 +94,8 @@ int main_with_mpi(int argc, char** argv) {
   run->add_option("--set", overrides, "Override a scene key, e.g. --set solver.iterations=64")
       ->type_name("KEY=VALUE");
   run->add_option("--out", out_dir, "Output directory (overrides output.dir)");
-  run->add_flag("--quiet", quiet, "No progress output");
+  run->add_flag("--quiet", quiet, "No progress output (warnings and errors still go to stderr)");
+  run->add_flag("--verbose", verbose, "Also report details, e.g. why no GPU is used");
   run->add_flag("--overwrite", overwrite,
                 "Reuse an output directory holding an earlier run (default: write to DIR.1, ...)");
   run->add_flag("--restart", restart,
@@ -71,7 +114,7 @@ int main_with_mpi(int argc, char** argv) {
   run->add_flag("--no-graphs", no_graphs,
                 "CUDA engine: launch every kernel instead of replaying captured graphs");
   run->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
-      ->check(CLI::PositiveNumber);
+      ->check(kAtLeastOne);
 
   TuneOptions tune_options;
   CLI::App* tune = add_tune_subcommand(app, tune_options);
@@ -84,7 +127,7 @@ int main_with_mpi(int argc, char** argv) {
   study->add_option("--set", overrides, "Override a scene key for every case")
       ->type_name("KEY=VALUE");
   study->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
-      ->check(CLI::PositiveNumber);
+      ->check(kAtLeastOne);
 
   CLI::App* mesh = app.add_subcommand("mesh", "Write the mesh of a scene to a file");
   mesh->add_option("scene", scene_path, "Scene file (TOML); none: the built-in double helix");
@@ -95,10 +138,17 @@ int main_with_mpi(int argc, char** argv) {
                    "Output file: .mesh (MEDIT), .msh (Gmsh 2.2), .node (TetGen)")
       ->required();
 
+  if (const std::string unknown = unknown_subcommand(app, argc, argv); !unknown.empty()) {
+    if (rank == 0) report_error("%s", unknown.c_str());
+    return kUsageExitCode;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return rank == 0 ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 1);
+    // --help and --version end here too, with exit 0 and their text.
+    if (e.get_exit_code() == 0) return rank == 0 ? app.exit(e) : 0;
+    if (rank == 0) report_error("%s (descent --help lists the commands and options)", e.what());
+    return kUsageExitCode;
   }
   if (threads > 0) omp_set_num_threads(threads);
 
@@ -118,6 +168,7 @@ int main_with_mpi(int argc, char** argv) {
     if (*run) {
       RunOptions options;
       options.quiet = quiet;
+      options.verbose = verbose;
       options.overwrite = overwrite;
       options.restart = restart;
       options.precision = precision;
@@ -129,8 +180,7 @@ int main_with_mpi(int argc, char** argv) {
       if (rank != 0) return 0;
       const Mesh m = build_scene_mesh(scene.mesh);
       write_mesh(m, mesh_out);
-      std::printf("descent: wrote %s (%d vertices, %d tets)\n", mesh_out.c_str(), m.num_vertices(),
-                  m.num_tets());
+      inform("wrote %s (%d vertices, %d tets)", mesh_out.c_str(), m.num_vertices(), m.num_tets());
       return 0;
     });
     return 0;

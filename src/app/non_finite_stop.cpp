@@ -1,7 +1,6 @@
 #include "app/non_finite_stop.hpp"
 
-#include <cstdio>
-
+#include "app/console.hpp"
 #include "comm/mpi_check.hpp"
 
 namespace descent {
@@ -25,9 +24,8 @@ std::string describe_site(const NonFiniteSite& site) {
 }  // namespace
 
 void warn_rolled_back(int frame, int rank, const NonFiniteSite& site) {
-  std::fprintf(stderr,
-               "warning: frame %d, rank %d: a trial state was not finite (%s); rolled back\n",
-               frame, rank, describe_site(site).c_str());
+  warn("frame %d, rank %d: a trial state was not finite (%s); rolled back", frame, rank,
+       describe_site(site).c_str());
 }
 
 void report_failed_step(MPI_Comm comm, int frame, const StepStats& step,

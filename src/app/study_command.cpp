@@ -3,13 +3,13 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
 #include <type_traits>
 
+#include "app/console.hpp"
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
 #include "app/study_trace.hpp"
@@ -111,9 +111,8 @@ void run_cases(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
         << "ranks,frame,case,method,k,energy,rel_error,ms,collectives,reduce_ms,cpu_ms,kinetic\n";
     std::ofstream(pareto) << "ranks,frame,level,case,k,ms\n";
     if (!options.quiet)
-      std::fprintf(stderr, "study: %d tets, %d ranks, %zu cases, %d measured frame(s), %s\n",
-                   mesh.num_tets(), ranks, options.cases.size(), options.frames,
-                   options.precision.c_str());
+      inform("study: %d tets, %d ranks, %zu cases, %d measured frame(s), %s", mesh.num_tets(),
+             ranks, options.cases.size(), options.frames, options.precision.c_str());
   }
   for (int m = 0; m < options.frames; ++m) {
     if (m > 0)
@@ -129,8 +128,8 @@ void run_cases(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
     }
     const double energy_star = star.records.back().energy;
     if (rank == 0 && !options.quiet)
-      std::fprintf(stderr, "study: frame %d: newton eps* = %.12e after %d iterations (%.1f s)\n",
-                   frame, energy_star, star.stats.iterations, MPI_Wtime() - t0);
+      inform("study: frame %d: newton eps* = %.12e after %d iterations (%.1f s)", frame,
+             energy_star, star.stats.iterations, MPI_Wtime() - t0);
     std::vector<CaseResult> results;
     for (std::size_t c = 0; c < options.cases.size(); ++c) {
       // Newton with the truth's keys is the truth's own run (timed once; in
@@ -157,13 +156,12 @@ void run_cases(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
           spectrum = detail::concat("  lambda [", format_number(r.stats.lambda_min), ", ",
                                     format_number(r.stats.lambda_max), "]",
                                     r.stats.spectrum_steps > 0 ? " estimated" : " carried");
-        std::fprintf(stderr,
-                     "study: [%zu/%zu] %-14s e_%d = %.3e  %.1f ms (cpu %.1f ms)  %ld collectives"
-                     "  %d rollbacks  alpha %.3g%s\n",
-                     c + 1, options.cases.size(), r.label.c_str(), r.records.back().k,
-                     r.errors.back(), 1e3 * r.records.back().seconds,
-                     1e3 * r.records.back().cpu_seconds, r.records.back().collectives,
-                     r.stats.rollbacks, r.stats.alpha, spectrum.c_str());
+        inform(
+            "study: [%zu/%zu] %-14s e_%d = %.3e  %.1f ms (cpu %.1f ms)  %ld collectives"
+            "  %d rollbacks  alpha %.3g%s",
+            c + 1, options.cases.size(), r.label.c_str(), r.records.back().k, r.errors.back(),
+            1e3 * r.records.back().seconds, 1e3 * r.records.back().cpu_seconds,
+            r.records.back().collectives, r.stats.rollbacks, r.stats.alpha, spectrum.c_str());
       }
     }
     if (rank != 0) continue;
@@ -253,10 +251,10 @@ int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::st
   else
     run_cases<double>(comm, scene, mesh, specs, truth, options);
   if (rank == 0 && !options.quiet)
-    std::fprintf(stderr,
-                 "study: wrote %s/study.csv and %s/pareto.csv; plots: /usr/bin/python3 "
-                 "tools/plot_study.py %s\n",
-                 options.out_dir.c_str(), options.out_dir.c_str(), options.out_dir.c_str());
+    inform(
+        "study: wrote %s/study.csv and %s/pareto.csv; plots: /usr/bin/python3 "
+        "tools/plot_study.py %s",
+        options.out_dir.c_str(), options.out_dir.c_str(), options.out_dir.c_str());
   return 0;
 }
 

@@ -180,8 +180,9 @@ int run_tune(MPI_Comm comm, const Scene& scene, const TuneOptions& options) {
     dx = std::min(2 * dx, kLargestGapStep);
     dy = std::min(2 * dy, kLargestAlphaStep);
     if (rank == 0 && !options.quiet)
-      std::fprintf(stderr, "tune: cycle %d: cost %.12e (start %.12e)\n  %s\n", cycle + 1, best_cost,
-                   start_cost, describe(best).c_str());
+      // On stderr: stdout is the tuned [solver] table, for a pipe or a file.
+      std::fprintf(stderr, "descent: tune: cycle %d: cost %.12e (start %.12e)\n  %s\n", cycle + 1,
+                   best_cost, start_cost, describe(best).c_str());
   }
 
   // The automatic parameters at the same states, for comparison.
@@ -215,7 +216,8 @@ int run_tune(MPI_Comm comm, const Scene& scene, const TuneOptions& options) {
         << describe(best) << "\n";
     std::printf("[solver]\n%s\n# %s\n", describe(best).c_str(), comparison.c_str());
     if (!options.quiet)
-      std::fprintf(stderr, "tune: wrote %s (%d cycles, %d evaluations; cost %.12e -> %.12e)\n",
+      std::fprintf(stderr,
+                   "descent: tune: wrote %s (%d cycles, %d evaluations; cost %.12e -> %.12e)\n",
                    options.out_file.c_str(), cycle, evaluations, start_cost, best_cost);
   }
   return 0;
