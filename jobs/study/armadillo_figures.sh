@@ -25,7 +25,7 @@ study() {  # study OUT ARGS...: one descent study with its machine record
   mkdir -p "$out"
   local cmd=($MPIEXEC -n 1 "$DESCENT" study "$@" --study-out "$out")
   machine "${cmd[*]}" > "$out/machine.txt"
-  "${cmd[@]}" 2> "$out/progress.log"
+  "${cmd[@]}" > "$out/progress.log"
 }
 
 cases=(--case chebyshev --case "chebyshev_fixed:$FIXED")

@@ -15,5 +15,5 @@ cmd=($MPIEXEC -n 1 "$DESCENT" study jobs/study/armadillo.toml "${TRUTH[@]}" --wa
      --case chebyshev --case "chebyshev_fixed:$FIXED" --case gd --case jacobi_gd --case ncg
      --case lbfgs --case nesterov --case newton --study-out "$out")
 machine "${cmd[*]}" > "$out/machine.txt"
-"${cmd[@]}" 2> >(tee "$out/progress.log" >&2)
+"${cmd[@]}" > >(tee "$out/progress.log")
 $PYTHON tools/plot_study.py "$out" --title "Fig. 2c: methods, armadillo (55K tets)" --name fig2c

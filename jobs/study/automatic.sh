@@ -60,7 +60,7 @@ pareto() {
            --case "lbfgs:method=lbfgs iterations=$n_lbfgs"
            --study-out "$out")
       machine "${cmd[*]}" > "$out/machine.txt"
-      "${cmd[@]}" 2> "$out/progress.log"
+      "${cmd[@]}" > "$out/progress.log"
     done
   done
   $PYTHON tools/plot_pareto.py "$base/pareto" --out "$base"
@@ -99,7 +99,7 @@ mainjob() {
        --repeats 1 --case "accuracy_1e-2:method=chebyshev accuracy=1e-2 iterations=1000"
        --case "fixed_96:method=chebyshev accuracy=0 iterations=96" --study-out "$out")
   machine "${cmd[*]}" > "$out/machine.txt"
-  "${cmd[@]}" 2> "$out/progress.log"
+  "${cmd[@]}" > "$out/progress.log"
   gzip -f "$out/study.csv"
   $PYTHON tools/plot_study.py "$out" --frames --relative --title "Main job: e at the end of each step"
 }
@@ -171,7 +171,7 @@ accuracy() {
     cmd=($MPIEXEC -n 1 "$DESCENT" study "${args[@]}" "${TRUTH[@]}" --warmup 5 --frames "$frames"
          --every 1 --repeats 1 "${cases[@]}" --study-out "$out")
     machine "${cmd[*]}" > "$out/machine.txt"
-    "${cmd[@]}" 2> "$out/progress.log"
+    "${cmd[@]}" > "$out/progress.log"
     gzip -f "$out/study.csv"
   done
   $PYTHON tools/accuracy_summary.py "$base/accuracy" > "$base/accuracy.md"

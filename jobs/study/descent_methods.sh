@@ -20,7 +20,7 @@ done
 cmd=($MPIEXEC -n 1 "$DESCENT" study "${helix[@]}" "${TRUTH[@]}" --warmup 10 --repeats 3
      "${cases[@]}" --study-out "$out")
 machine "${cmd[*]}" > "$out/machine.txt"
-"${cmd[@]}" 2> >(tee "$out/progress.log" >&2)
+"${cmd[@]}" > >(tee "$out/progress.log")
 $PYTHON tools/plot_study.py "$out" --title "Fig. 2c: methods, helix $PRESET" \
   --cases chebyshev chebyshev_fixed gd jacobi_gd ncg lbfgs nesterov newton --name fig2c
 $PYTHON tools/plot_study.py "$out" --title "Fig. 2c: methods, helix $PRESET (processor time)" \

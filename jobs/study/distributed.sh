@@ -26,7 +26,7 @@ for np in 1 2 4; do
   cmd=($MPIEXEC -n "$np" "$DESCENT" study "${helix[@]}" --warmup 10 --repeats 3
        "${cases[@]}" --study-out "$out")
   machine "${cmd[*]}" > "$out/machine.txt"
-  "${cmd[@]}" 2> "$out/progress.log"
+  "${cmd[@]}" > "$out/progress.log"
 done
 $PYTHON tools/plot_study.py "$RESULTS/$name"/np* \
   --out "$RESULTS/$name" --title "Distributed cost, helix $PRESET ($MODEL)"

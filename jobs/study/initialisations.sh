@@ -12,5 +12,5 @@ cmd=($MPIEXEC -n 1 "$DESCENT" study jobs/study/small_helix.toml "${TRUTH[@]}"
      --case "constant_acceleration:init=constant_acceleration" --case "optimized:init=optimized"
      --study-out "$out")
 machine "${cmd[*]}" > "$out/machine.txt"
-"${cmd[@]}" 2> "$out/progress.log"
+"${cmd[@]}" > "$out/progress.log"
 $PYTHON tools/plot_study.py "$out" --frames --title "Fig. 6: initialisations, small helix"

@@ -74,7 +74,7 @@ if part kinetic; then
   cmd=($MPIEXEC -n 1 "$DESCENT" study "${helix[@]}" "${corotated[@]}" --warmup 10 --repeats 3
        "${cases[@]}" --study-out "$out")
   machine "${cmd[*]}" > "$out/machine.txt"
-  "${cmd[@]}" 2> "$out/progress.log"
+  "${cmd[@]}" > "$out/progress.log"
   $PYTHON tools/plot_kinetic.py "$out" --title "linear_cg, one solve, helix $PRESET (corotated, h = 1/30 s)"
 fi
 part armadillo || exit 0

@@ -10,5 +10,5 @@ cmd=($MPIEXEC -n 1 "$DESCENT" study "${helix[@]}" "${TRUTH[@]}" --set 'material.
      --warmup 10 --repeats 3 --case chebyshev --case "chebyshev_fixed:$FIXED" --case pd_chebyshev
      --case "chebyshev_M1:method=chebyshev hessian_interval=1" --case newton --study-out "$out")
 machine "${cmd[*]}" > "$out/machine.txt"
-"${cmd[@]}" 2> >(tee "$out/progress.log" >&2)
+"${cmd[@]}" > >(tee "$out/progress.log")
 $PYTHON tools/plot_study.py "$out" --title "Fig. 4: arap energy, helix $PRESET" --name fig4

@@ -189,7 +189,7 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   if (talk && backend.kind != BackendKind::cpu)
     inform("backend %s: %s", to_string(backend.kind), sim.device_memory_report().c_str());
   if (talk && size > 1)
-    std::printf("%s\n", describe(partition_quality(mesh, sim.tet_part(), size)).c_str());
+    inform("%s", describe(partition_quality(mesh, sim.tet_part(), size)).c_str());
 
   const LocalMesh& local = sim.local_mesh();
   const std::string identity = run_identity(scene, mesh_digest(comm, local), precision);
