@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cstdlib>
 #include <optional>
 #include <string>
 
@@ -22,6 +23,7 @@
 #include "common/closest_name.hpp"
 #include "io/mesh_io.hpp"
 #include "io/scene.hpp"
+#include "solver/petsc/petsc_session.hpp"
 
 namespace {
 
@@ -84,6 +86,7 @@ int main_with_mpi(int argc, char** argv) {
   bool overwrite = false;
   bool restart = false;
   int threads = 0;
+  std::string petsc_options;
   std::string precision = "auto";
   BackendRequest backend;
   bool no_graphs = false;
@@ -115,6 +118,8 @@ int main_with_mpi(int argc, char** argv) {
                 "CUDA engine: launch every kernel instead of replaying captured graphs");
   run->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
       ->check(kAtLeastOne);
+  run->add_option("--petsc-options", petsc_options,
+                  "Options for the PETSc solvers, e.g. \"-ksp_monitor -pc_type hypre\"");
 
   TuneOptions tune_options;
   CLI::App* tune = add_tune_subcommand(app, tune_options);
@@ -128,6 +133,8 @@ int main_with_mpi(int argc, char** argv) {
       ->type_name("KEY=VALUE");
   study->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
       ->check(kAtLeastOne);
+  study->add_option("--petsc-options", petsc_options,
+                    "Options for the PETSc solvers, e.g. \"-ksp_monitor -log_view\"");
 
   CLI::App* mesh = app.add_subcommand("mesh", "Write the mesh of a scene to a file");
   mesh->add_option("scene", scene_path, "Scene file (TOML); none: the built-in double helix");
@@ -151,6 +158,13 @@ int main_with_mpi(int argc, char** argv) {
     return kUsageExitCode;
   }
   if (threads > 0) omp_set_num_threads(threads);
+  // Read when PETSc starts (solver/petsc/petsc_session.hpp), after PETSc's
+  // own environment variable.
+  if (!petsc_options.empty()) {
+    const char* earlier = std::getenv("PETSC_OPTIONS");
+    const std::string all = (earlier ? std::string(earlier) + " " : std::string()) + petsc_options;
+    setenv("PETSC_OPTIONS", all.c_str(), 1);
+  }
 
   try {
     Scene scene = agree(MPI_COMM_WORLD, [&] { return read_scene(scene_path, overrides); });
@@ -194,6 +208,7 @@ int main_with_mpi(int argc, char** argv) {
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   const int code = main_with_mpi(argc, argv);
+  descent::finish_petsc();  // prints -log_view, when PETSc ran
   MPI_Finalize();
   return code;
 }

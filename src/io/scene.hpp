@@ -141,9 +141,14 @@ struct SolverSpec {
   int newton_iterations = 50;
   double cg_tolerance = 1e-10;
   int cg_iterations = 20000;
-  // newton's linear solver: "cg" (the PCG above, distributed) or "ldlt"
-  // (Eigen's sparse LDL^T of the assembled Hessian, gathered on rank 0).
+  // newton's linear solver: "cg" (the PCG above, distributed), "ldlt"
+  // (Eigen's sparse LDL^T of the assembled Hessian, gathered on rank 0) or
+  // "petsc" (the assembled Hessian as a distributed PETSc matrix, CG with
+  // algebraic multigrid; builds with PETSc only).
   std::string newton_solver = "cg";
+  // PETSc options for the PETSc solvers, e.g. "-pc_type hypre -ksp_monitor",
+  // after those of PETSC_OPTIONS and --petsc-options.
+  std::string petsc_options;
   // linear_cg (paper 2; solver/methods/linear_cg.hpp): linearly implicit
   // Euler (M(1 + h c) + (h^2 + h beta) K) v = M v_t + h (f_el + f_ext) with
   // the corotated stiffness K, solved by PCG for at most `iterations`

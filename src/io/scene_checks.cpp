@@ -312,7 +312,7 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require_one_of(doc, "solver.newton_projection", solver.newton_projection, {"fallback", "always"});
   require(doc, solver.cg_tolerance > 0, "solver.cg_tolerance", "> 0", solver.cg_tolerance);
   require(doc, solver.cg_iterations >= 1, "solver.cg_iterations", ">= 1", solver.cg_iterations);
-  require_one_of(doc, "solver.newton_solver", solver.newton_solver, {"cg", "ldlt"});
+  require_one_of(doc, "solver.newton_solver", solver.newton_solver, {"cg", "ldlt", "petsc"});
   check_linear_cg(doc, scene);
   require(doc, solver.iterations >= 1, "solver.iterations", ">= 1", solver.iterations);
   require_one_of(doc, "solver.chebyshev_parameters", solver.chebyshev_parameters,

@@ -81,6 +81,7 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("solver.cg_tolerance", solver.cg_tolerance);
   visit("solver.cg_iterations", solver.cg_iterations);
   visit("solver.newton_solver", solver.newton_solver);
+  visit("solver.petsc_options", solver.petsc_options);
   visit("solver.linear_cg_guess", solver.linear_cg_guess);
   visit("solver.linear_cg_preconditioner", solver.linear_cg_preconditioner);
   visit("solver.linear_cg_tolerance", solver.linear_cg_tolerance);
