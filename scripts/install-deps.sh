@@ -11,6 +11,8 @@ packages=(
   libgtest-dev
   libtomlplusplus-dev             # scene files
   libcli11-dev                    # command line
+  slurm-wlm munge python3-h5py    # tests/slurm: the job scripts under a real Slurm
+  python3-meshio                  # tests/cli: frames.xdmf read as a time series
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds, and runs every test through ctest; then the
-# whole suite again in a build with AddressSanitizer and UndefinedBehavior-
-# Sanitizer (DESCENT_SANITIZE=0 skips that second pass).
+# Installs dependencies, builds, and runs every test through ctest and the
+# Slurm job test; then the whole suite again in a build with AddressSanitizer
+# and UndefinedBehaviorSanitizer (DESCENT_SANITIZE=0 skips that second pass).
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 ctest --test-dir build --output-on-failure -j"$(nproc)"
+# The Slurm job scripts under a one-node Slurm it starts (skips without root).
+bash tests/slurm/slurm_job_test.sh build
 
 if [ "${DESCENT_SANITIZE:-1}" != "0" ]; then
   echo "== the suite again under ASan + UBSan (build-sanitize/)"
