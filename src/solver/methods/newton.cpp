@@ -11,6 +11,10 @@ Newton<Real>::Newton(LocalProblem<Real>& problem, const SolverSpec& spec)
   for (auto* v : {&g_, &dq_, &r_, &z_, &p_, &ap_, &trial_}) v->assign(this->size(), Real(0));
   // Collective set-up (gathers to rank 0): every rank builds its Newton alike.
   if (spec.newton_solver == "ldlt") ldlt_ = std::make_unique<NewtonLdlt<Real>>(problem, hessian_);
+  // Collective (PETSc start on first use, matrix pattern); throws InputError
+  // in a build without PETSc.
+  if (spec.newton_solver == "petsc")
+    petsc_ = std::make_unique<NewtonPetsc<Real>>(problem, hessian_, spec);
 }
 
 template <class Real>
@@ -59,6 +63,7 @@ void Newton<Real>::iterate(StepStats& stats) {
   const std::size_t n = this->size();
   gradient_norms_.clear();
   cg_iterations_.clear();
+  petsc_reductions_.clear();
   projected_solves_ = 0;
   double g0 = 0;
   double energy = std::numeric_limits<double>::quiet_NaN();  // eps(q_), once known
@@ -82,6 +87,10 @@ void Newton<Real>::iterate(StepStats& stats) {
       if (ldlt_) {
         positive = ldlt_->solve(g_.data(), dq_.data());
         cg_iterations_.push_back(0);
+      } else if (petsc_) {
+        positive = petsc_->solve(g_.data(), dq_.data(), this->q_.data());
+        cg_iterations_.push_back(petsc_->iterations());
+        petsc_reductions_.push_back(petsc_->reductions());
       } else {
         cg_iterations_.push_back(solve(gg, positive));
       }

@@ -13,12 +13,19 @@
 // With solver.newton_solver = "ldlt" the system is instead assembled and
 // factored on rank 0 (newton_ldlt.hpp): per linear solve 1 MPI_Gatherv + 1
 // MPI_Scatterv in place of CG's allreduces, then the same 1 (g.dq).
+// With solver.newton_solver = "petsc" the system is assembled into a
+// distributed PETSc matrix and solved by PETSc's CG + GAMG (or any KSP/PC of
+// the options; solver/petsc/newton_petsc.hpp, docs/petsc.md): per linear
+// solve PETSc's own reductions (assembly, AMG set-up, 1-2 per Krylov
+// iteration; not in our counters: petsc_reductions() has them), then the
+// same 1 (g.dq).
 #include <memory>
 #include <vector>
 
 #include "solver/methods/hessian_operator.hpp"
 #include "solver/methods/method_base.hpp"
 #include "solver/methods/newton_ldlt.hpp"
+#include "solver/petsc/newton_petsc.hpp"
 
 namespace descent {
 
@@ -29,9 +36,13 @@ class Newton final : public MethodBase<Real> {
 
   // |grad eps| (owned free dofs, all ranks) at every Newton iterate of the
   // last step, the initial guess first; and the CG iterations per solve
-  // (0 for an "ldlt" solve: no CG iteration, no CG collective).
+  // (0 for an "ldlt" solve: no CG iteration, no CG collective; PETSc's
+  // Krylov iterations for a "petsc" solve).
   const std::vector<double>& gradient_norms() const { return gradient_norms_; }
   const std::vector<int>& cg_iterations() const { return cg_iterations_; }
+  // Per "petsc" solve of the last step: the MPI reductions PETSc made itself
+  // (petsc_allreduce_ct; empty for the other solvers).
+  const std::vector<long>& petsc_reductions() const { return petsc_reductions_; }
   // Newton iterations whose exact system was replaced by the projected one.
   int projected_solves() const { return projected_solves_; }
 
@@ -40,10 +51,12 @@ class Newton final : public MethodBase<Real> {
   // PCG for H dq_ = -g_; returns iterations; positive: no p.Hp <= 0 met.
   int solve(double rhs_norm2, bool& positive);
   HessianOperator<Real> hessian_;
-  std::unique_ptr<NewtonLdlt<Real>> ldlt_;  // newton_solver = "ldlt" only
+  std::unique_ptr<NewtonLdlt<Real>> ldlt_;    // newton_solver = "ldlt" only
+  std::unique_ptr<NewtonPetsc<Real>> petsc_;  // newton_solver = "petsc" only
   std::vector<Real> g_, dq_, r_, z_, p_, ap_, trial_;
   std::vector<double> gradient_norms_;
   std::vector<int> cg_iterations_;
+  std::vector<long> petsc_reductions_;
   int projected_solves_ = 0;
 };
 
