@@ -3,6 +3,8 @@
 #include <ctime>
 #include <limits>
 
+#include "solver/petsc/tao_method.hpp"
+
 namespace descent {
 
 namespace {
@@ -89,9 +91,11 @@ StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spe
   stepper->set_memory(carried_memory(sim.solver_spec(), sim.stepper().memory(), spec));
   BodyState<Real> state = sim.state();
 
+  // Ours through EnergyReduction, and those PETSc makes itself (TAO's
+  // inner products and norms: solver/petsc/tao_method.hpp).
   auto collectives = [&sim] {
     const ReductionCounters& c = sim.reduction_counters();
-    return c.allreduces + c.dot_allreduces;
+    return c.allreduces + c.dot_allreduces + petsc_collectives();
   };
   MPI_Barrier(comm);
   const long collectives_start = collectives();

@@ -96,6 +96,9 @@ struct TimeSpec {
 
 // Parameters of DESIGN §1's descent iteration (paper 1, §4).
 struct SolverSpec {
+  // "chebyshev", "gd", "jacobi_gd", "nesterov", "ncg", "lbfgs", "newton",
+  // "pd_chebyshev", "linear_cg" (docs/methods.md), and PETSc TAO's "tao_bncg"
+  // and "tao_blmvm" (docs/tao.md; builds with PETSc only).
   std::string method = "chebyshev";
   // "auto": alpha and rho from an estimate of the spectrum of D^-1 H
   // (solver/spectrum.hpp), made online and reused; "fixed": rho, alpha_max,

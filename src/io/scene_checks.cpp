@@ -283,7 +283,7 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   const SolverSpec& solver = scene.solver;
   require_one_of(doc, "solver.method", solver.method,
                  {"chebyshev", "gd", "jacobi_gd", "nesterov", "ncg", "lbfgs", "newton",
-                  "pd_chebyshev", "linear_cg"});
+                  "pd_chebyshev", "linear_cg", "tao_bncg", "tao_blmvm"});
   // Projective dynamics is defined for the arap energy only (its constant
   // global matrix comes from |F - R|^2).
   if (solver.method == "pd_chebyshev" &&

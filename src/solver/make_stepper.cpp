@@ -7,6 +7,7 @@
 #include "solver/methods/newton.hpp"
 #include "solver/methods/nonlinear_cg.hpp"
 #include "solver/methods/pd_chebyshev.hpp"
+#include "solver/petsc/tao_method.hpp"
 #include "solver/stepper.hpp"
 
 namespace descent {
@@ -25,6 +26,10 @@ std::unique_ptr<Stepper<Real>> make_stepper(LocalProblem<Real>& problem, const S
   if (spec.method == "newton") return std::make_unique<Newton<Real>>(problem, spec);
   if (spec.method == "pd_chebyshev") return std::make_unique<PdChebyshev<Real>>(problem, spec);
   if (spec.method == "linear_cg") return std::make_unique<LinearCg<Real>>(problem, spec);
+  // PETSc TAO's peers of ncg and lbfgs (docs/tao.md); without PETSc they
+  // refuse with an InputError naming the package.
+  if (spec.method == "tao_bncg") return std::make_unique<TaoMethod<Real>>(problem, spec, "bncg");
+  if (spec.method == "tao_blmvm") return std::make_unique<TaoMethod<Real>>(problem, spec, "blmvm");
   // The scene checks admit only the methods listed here.
   throw LogicError(detail::concat("no stepper for solver.method = ", spec.method));
 }
