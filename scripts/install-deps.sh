@@ -13,6 +13,7 @@ packages=(
   libcli11-dev                    # command line
   slurm-wlm munge python3-h5py    # tests/slurm: the job scripts under a real Slurm
   python3-meshio                  # tests/cli: frames.xdmf read as a time series
+  petsc-dev                       # optional: Newton with AMG, TAO's methods (docs/petsc.md)
 )
 missing=()
 for p in "${packages[@]}"; do

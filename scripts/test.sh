@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds, and runs every test through ctest and the
 # Slurm job test; then the whole suite again in a build with AddressSanitizer
-# and UndefinedBehaviorSanitizer (DESCENT_SANITIZE=0 skips that second pass).
+# and UndefinedBehaviorSanitizer and without PETSc (DESCENT_SANITIZE=0 skips
+# that second pass).
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 ctest --test-dir build --output-on-failure -j"$(nproc)"
@@ -11,8 +12,11 @@ bash tests/slurm/slurm_job_test.sh build
 if [ "${DESCENT_SANITIZE:-1}" != "0" ]; then
   echo "== the suite again under ASan + UBSan (build-sanitize/)"
   # CUDA off: the sanitizers watch host code, and CI time is better spent
-  # than compiling the device kernels twice.
+  # than compiling the device kernels twice. PETSc off: this pass is also
+  # the build without the optional PETSc, where its methods must refuse by
+  # name and everything else must pass.
   cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Debug -DDESCENT_ENABLE_CUDA=OFF \
+    -DDESCENT_ENABLE_PETSC=OFF \
     -DCMAKE_CXX_FLAGS="-O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined"
   cmake --build build-sanitize -j"$(nproc)"
