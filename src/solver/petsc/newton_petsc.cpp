@@ -134,6 +134,11 @@ NewtonPetsc<Real>::NewtonPetsc(LocalProblem<Real>& problem, const HessianOperato
   PC pc = nullptr;
   DESCENT_PETSC_CHECK(KSPGetPC(s.ksp, &pc));
   DESCENT_PETSC_CHECK(PCSetType(pc, PCGAMG));
+  // Threshold 0 (PETSc's default is -1: keep every entry) drops the zero
+  // couplings of held dofs from the aggregation graph: on the 41K helix,
+  // one rank, 118 Krylov iterations per Newton step in place of 243.
+  PetscReal threshold = 0.0;
+  DESCENT_PETSC_CHECK(PCGAMGSetThreshold(pc, &threshold, 1));
   DESCENT_PETSC_CHECK(
       KSPSetTolerances(s.ksp, spec.cg_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, spec.cg_iterations));
   DESCENT_PETSC_CHECK(KSPSetFromOptions(s.ksp));
