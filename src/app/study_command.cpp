@@ -15,6 +15,7 @@
 #include "app/study_trace.hpp"
 #include "common/error.hpp"
 #include "io/scene_document.hpp"
+#include "solver/petsc/petsc_session.hpp"
 
 namespace descent {
 
@@ -128,13 +129,14 @@ void run_cases(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
     }
     const double energy_star = star.records.back().energy;
     if (rank == 0 && !options.quiet)
-      inform("study: frame %d: newton eps* = %.12e after %d iterations (%.1f s)", frame,
-             energy_star, star.stats.iterations, MPI_Wtime() - t0);
+      inform("study: frame %d: newton (%s) eps* = %.12e after %d iterations (%.1f s)", frame,
+             truth.newton_solver.c_str(), energy_star, star.stats.iterations, MPI_Wtime() - t0);
     std::vector<CaseResult> results;
     for (std::size_t c = 0; c < options.cases.size(); ++c) {
       // Newton with the truth's keys is the truth's own run (timed once; in
       // double, as the truth is).
       const bool is_truth = specs[c].method == "newton" &&
+                            specs[c].newton_solver == truth.newton_solver &&
                             specs[c].newton_tolerance == truth.newton_tolerance &&
                             specs[c].cg_tolerance == truth.cg_tolerance;
       if (is_truth) {
@@ -227,6 +229,11 @@ CLI::App* add_study_subcommand(CLI::App& app, StudyOptions& options) {
       ->add_option("--precision", options.precision,
                    "Real type of the methods (the truth and the measured eps stay double)")
       ->check(CLI::IsMember({"double", "float"}));
+  study
+      ->add_option("--truth-solver", options.truth_solver,
+                   "Newton's linear solver for eps*: auto (petsc in a build with PETSc where "
+                   "solver.newton_solver is the default cg, else that key), cg, ldlt or petsc")
+      ->check(CLI::IsMember({"auto", "cg", "ldlt", "petsc"}));
   study->add_flag("--quiet", options.quiet, "No progress output");
   return study;
 }
@@ -244,6 +251,12 @@ int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::st
   for (const StudyCase& c : options.cases) specs.push_back(read(c.overrides).solver);
   SolverSpec truth = scene.solver;
   truth.method = "newton";
+  // A scene that chose a linear solver keeps it; the default Jacobi CG gives
+  // way to multigrid where there is PETSc.
+  if (options.truth_solver != "auto")
+    truth.newton_solver = options.truth_solver;
+  else if (petsc_compiled() && truth.newton_solver == "cg")
+    truth.newton_solver = "petsc";
 
   const Mesh mesh = build_scene_mesh(scene.mesh);
   if (options.precision == "float")

@@ -35,6 +35,11 @@ struct StudyOptions {
   int repeats = 3;  // timing repeats per case (median per iteration)
   std::string out_dir = "study";
   std::string precision = "double";  // the methods' Real; eps* and eps(q_k) in double
+  // Newton's linear solver for the truth eps*: "auto" is "petsc" (CG with
+  // algebraic multigrid) in a build with PETSc where the scene leaves
+  // solver.newton_solver at its default "cg", else the scene's; or "cg",
+  // "ldlt", "petsc".
+  std::string truth_solver = "auto";
   bool quiet = false;
 };
 

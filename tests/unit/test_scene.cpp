@@ -720,7 +720,8 @@ TEST(Scene, ChoicesListTheValidNames) {
              "\"rotate\", got \"spin\"");
   expect_has(error_of(std::string(kBoxScene) + "[solver]\nmethod = \"jacobi\"\n"),
              "solver.method must be one of \"chebyshev\", \"gd\", \"jacobi_gd\", \"nesterov\", "
-             "\"ncg\", \"lbfgs\", \"newton\", \"pd_chebyshev\", \"linear_cg\", got \"jacobi\"");
+             "\"ncg\", \"lbfgs\", \"newton\", \"pd_chebyshev\", \"linear_cg\", \"tao_bncg\", "
+             "\"tao_blmvm\", got \"jacobi\"");
   expect_has(error_of(std::string(kBoxScene) + "[solver]\ninit = \"guess\"\n"),
              "solver.init must be one of \"constant_acceleration\", \"position\", \"velocity\"");
   expect_has(error_of("[mesh]\ngenerator = \"sphere\"\n"),
