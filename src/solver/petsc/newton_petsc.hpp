@@ -33,12 +33,18 @@
 // set-up and Krylov iterations, whose MPI_Allreduce calls PETSc makes itself
 // and our EnergyReduction never sees: reductions() returns PETSc's own count
 // of them (petsc_allreduce_ct, -log_view's "MPI Reductions"), which is near
-// but not exact: on the small helix, 2 ranks, 5 solves, PETSc counted 974
-// where the PMPI wrappers saw 1080 MPI_Allreduce calls (the exact number is
+// but not exact: on the small helix, 2 ranks, 5 solves, PETSc counted 994
+// where the PMPI wrappers saw 1109 MPI_Allreduce calls (the exact number is
 // measured at the MPI boundary by tests/mpi/test_newton_petsc and
-// bench/newton_step.sh). One halo exchange returns dq to the shared vertices. A communicator is
-// needed: MPI_COMM_WORLD (PETSc's world) when the mesh spans several ranks, MPI_COMM_SELF for a
-// one-rank mesh.
+// bench/newton_step.sh). One halo exchange returns dq to the shared
+// vertices.
+//
+// Communicator: MPI_COMM_WORLD (PETSc's world) when the mesh spans several
+// ranks, MPI_COMM_SELF for a one-rank mesh.
+//
+// Defaults set before the options database is read: KSPCG with the
+// unpreconditioned residual norm (our CG's stopping rule, unless
+// -ksp_norm_type is given), PCGAMG with threshold 0 (-pc_gamg_threshold).
 #include <memory>
 #include <vector>
 
