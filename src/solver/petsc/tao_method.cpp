@@ -18,7 +18,9 @@ namespace descent {
 
 #ifdef DESCENT_HAVE_PETSC
 
-long petsc_collectives() { return static_cast<long>(petsc_allreduce_ct); }
+long petsc_collectives() {
+  return static_cast<long>(petsc_allreduce_ct + petsc_gather_ct + petsc_scatter_ct);
+}
 
 template <class Real>
 struct TaoMethod<Real>::Petsc {

@@ -12,6 +12,16 @@
 // gradient is 0 anyway). Shared vertices owned elsewhere get their owner's
 // values through one Halo sum in which only the owner contributes (the
 // others add zeros, so every sharer holds the owner's value exactly).
+// TAO's variables are x = D0^1/2 q per free dof, D0 the Jacobi diagonal of
+// the Hessian at the step's initial guess (one gradient-and-diagonal pass per
+// step), so TAO's identity metric is the Jacobi preconditioner our ncg and
+// lbfgs use, and its gradient is D0^-1/2 g. Unscaled, TAO's first step -g
+// inverts elements and its line search fails (-descent_tao_jacobi false in
+// the PETSc options turns the scaling off).
+//
+// Outside eps's domain (an inverted element in a line-search trial) the
+// objective is a finite wall (see evaluate in tao_method.cpp), so More-
+// Thuente backtracks.
 //
 // Per objective-and-gradient evaluation (TAO always asks for both): that
 // halo sum, our gradient (one halo exchange of partial sums) and the energy
@@ -22,7 +32,8 @@
 // TAO's iterate into q (one more halo sum) to report it to the study.
 //
 // Stopping: TAO's iteration cap is solver.iterations; its only tolerance is
-// |g| <= solver.newton_tolerance |g0| (Newton's relative gradient criterion;
+// |g| <= solver.newton_tolerance |g0| (Newton's relative gradient criterion,
+// here on the scaled gradient;
 // TAO's default absolute and f-relative ones are switched off so the study
 // sees every iteration). TAO also stops where its line search fails.
 // solver.petsc_options (-tao_bncg_type fr, -tao_ls_type armijo, ...) apply
@@ -38,10 +49,12 @@
 
 namespace descent {
 
-// Collectives PETSc itself made on communicators of more than one rank since
-// PETSc started (its log counter petsc_allreduce_ct: MPI_Allreduce, Bcast,
-// Reduce, Scan, Alltoall, ...; one-rank communicators are not counted). 0 in
-// a build without PETSc. The study adds it to our EnergyReduction's counts.
+// Collectives PETSc itself made since it started, by its own log counters
+// (the sum petsc_allreduce_ct + petsc_gather_ct + petsc_scatter_ct, as
+// -log_view's "Reductions"): MPI_Allreduce, Bcast, Reduce, Scan, Alltoall,
+// Allgather(v) on communicators of more than one rank (PETSc counts none on
+// one rank), Gather(v), Scatter(v). 0 in a build without PETSc. The study
+// adds it to our EnergyReduction's counts.
 long petsc_collectives();
 
 template <class Real>
@@ -60,8 +73,8 @@ class TaoMethod final : public MethodBase<Real> {
   // Of which outside eps's domain (an inverted element; see evaluate).
   int nonfinite_evaluations() const { return nonfinite_; }
   const std::string& reason() const { return reason_; }
-  // TAO's |g| (2-norm over the free dofs of all ranks) at each of its
-  // iterates of the last step, the initial guess first.
+  // TAO's |D0^-1/2 g| (2-norm over the free dofs of all ranks) at each of
+  // its monitored iterates of the last step, the initial guess first.
   const std::vector<double>& gradient_norms() const { return gradient_norms_; }
   // This rank's share (owned free dofs) of our |grad eps|^2, unscaled, at the
   // same iterates (NaN where TAO's iterate was not its last evaluation).
