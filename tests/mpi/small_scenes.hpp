@@ -1,5 +1,9 @@
 #pragma once
 // Small scenes built in code for the MPI tests (no files needed).
+#include <algorithm>
+#include <vector>
+
+#include "common/mesh.hpp"
 #include "io/scene.hpp"
 #include "meshes/generators.hpp"
 
@@ -33,6 +37,19 @@ inline Scene fixed_chebyshev(Scene scene) {
   scene.solver.chebyshev_delay = 10;
   scene.solver.alpha_max = 1.0;
   return scene;
+}
+
+// The mesh's positions stretched along the helix axis (y) from its held top
+// by `factor` (< 1 compresses): far from equilibrium, so Newton needs several
+// iterations, with the exact Hessian indefinite on the way, and |g0| is large
+// against the floor where eps's round-off stops an energy line search.
+inline std::vector<double> stretched_positions(const Mesh& mesh, double factor = 1.2) {
+  std::vector<double> stretched = mesh.positions;
+  double top = -1e300;
+  for (std::size_t k = 1; k < stretched.size(); k += 3) top = std::max(top, stretched[k]);
+  for (std::size_t k = 1; k < stretched.size(); k += 3)
+    stretched[k] = top + factor * (stretched[k] - top);
+  return stretched;
 }
 
 }  // namespace descent::testing

@@ -91,14 +91,8 @@ TEST(Methods, NewtonReachesTheGradientCriterionQuadratically) {
   Scene scene = testing::small_helix_scene();
   const Mesh mesh = build_scene_mesh(scene.mesh);
   Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
-  // Start stretched by 20% along the helix axis from its held top: far from equilibrium, so
-  // Newton needs several iterations and shows its rate.
-  std::vector<double> stretched = mesh.positions;
-  double top = -1e300;
-  for (std::size_t k = 1; k < stretched.size(); k += 3) top = std::max(top, stretched[k]);
-  for (std::size_t k = 1; k < stretched.size(); k += 3)
-    stretched[k] = top + 1.2 * (stretched[k] - top);
-  sim.set_positions(stretched);
+  // Far from equilibrium, so Newton needs several iterations and shows its rate.
+  sim.set_positions(testing::stretched_positions(mesh));
   SolverSpec spec = scene.solver;
   spec.method = "newton";
   spec.init = "position";

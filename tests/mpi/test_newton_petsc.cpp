@@ -27,15 +27,7 @@ namespace {
 
 using testing::world_rank;
 
-// Stretched along the helix axis from its held top (as in test_newton_ldlt).
-std::vector<double> stretched_positions(const Mesh& mesh, double factor = 1.2) {
-  std::vector<double> stretched = mesh.positions;
-  double top = -1e300;
-  for (std::size_t k = 1; k < stretched.size(); k += 3) top = std::max(top, stretched[k]);
-  for (std::size_t k = 1; k < stretched.size(); k += 3)
-    stretched[k] = top + factor * (stretched[k] - top);
-  return stretched;
-}
+using testing::stretched_positions;
 
 struct NewtonRun {
   StepStats stats;

@@ -34,12 +34,7 @@ TEST(Tao, EachMethodLowersEpsAndReachesTheGradientTolerance) {
   Scene scene = testing::small_helix_scene();
   const Mesh mesh = build_scene_mesh(scene.mesh);
   Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
-  std::vector<double> stretched = mesh.positions;
-  double top = -1e300;
-  for (std::size_t k = 1; k < stretched.size(); k += 3) top = std::max(top, stretched[k]);
-  for (std::size_t k = 1; k < stretched.size(); k += 3)
-    stretched[k] = top + 1.2 * (stretched[k] - top);
-  sim.set_positions(stretched);
+  sim.set_positions(testing::stretched_positions(mesh));
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   for (const char* method : kMethods) {
