@@ -6,7 +6,7 @@
 # strong threshold 0.5, HMIS coarsening, ext+i interpolation, P_max 4, one
 # level of aggressive coarsening), on
 # the 41K, 82K and 158K helix (jobs/helix.toml) and the armadillo
-# (jobs/study/armadillo.toml; skipped when /work/shared/meshes lacks it), on 1
+# (jobs/study/armadillo.toml; skipped when ../shared/meshes lacks it), on 1
 # and 2 ranks. Each line of the CSV: median step time of REPEATS steps from
 # the same state (slowest rank), Newton iterations, total Krylov iterations,
 # and the MPI_Allreduce calls of one step counted at the MPI boundary (ours
@@ -44,8 +44,9 @@ export OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM
 for mesh in $meshes; do
   if [[ $mesh == armadillo ]]; then
     scene=$root/jobs/study/armadillo.toml
-    if [[ ! -f /work/shared/meshes/armadillo_10k.node ]]; then
-      echo "armadillo: /work/shared/meshes/armadillo_10k.node absent, skipped" | tee -a "$log"
+    armadillo=$root/../shared/meshes/armadillo_10k.node  # as the scene's mesh.file
+    if [[ ! -f $armadillo ]]; then
+      echo "armadillo: $armadillo absent, skipped" | tee -a "$log"
       continue
     fi
     mesh_keys=()

@@ -3,7 +3,7 @@
 #include <ctime>
 #include <limits>
 
-#include "solver/petsc/tao_method.hpp"
+#include "solver/petsc/petsc_session.hpp"
 
 namespace descent {
 
@@ -91,8 +91,9 @@ StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spe
   stepper->set_memory(carried_memory(sim.solver_spec(), sim.stepper().memory(), spec));
   BodyState<Real> state = sim.state();
 
-  // Ours through EnergyReduction, and those PETSc makes itself (TAO's
-  // inner products and norms: solver/petsc/tao_method.hpp).
+  // Ours through EnergyReduction, and those PETSc makes itself (TAO's inner
+  // products and norms, the AMG Newton's Krylov solves:
+  // solver/petsc/petsc_session.hpp).
   auto collectives = [&sim] {
     const ReductionCounters& c = sim.reduction_counters();
     return c.allreduces + c.dot_allreduces + petsc_collectives();

@@ -34,7 +34,6 @@ struct NewtonPetsc<Real>::State {
   Vec rhs = nullptr, solution = nullptr, coordinates = nullptr;
   KSP ksp = nullptr;
   std::vector<PetscScalar> diagonal;  // per owned dof: curvature, 1 on held dofs
-  std::vector<PetscScalar> values;    // 144 per local tet, held rows and columns zeroed
 
   ~State() {
     if (!PetscInitializeCalled || PetscFinalizeCalled) return;  // PETSc already gone
@@ -124,7 +123,6 @@ NewtonPetsc<Real>::NewtonPetsc(LocalProblem<Real>& problem, const HessianOperato
   s.diagonal.resize(3 * std::size_t(no));
   for (std::size_t k = 0; k < s.diagonal.size(); ++k)
     s.diagonal[k] = (fixed[k / 3] >> (k % 3)) & 1u ? 1.0 : double(hessian.vertex_curvature()[k]);
-  s.values.resize(144 * std::size_t(nt));
 
   // CG + GAMG to |r| <= cg_tolerance |b| in the unpreconditioned norm, as our
   // CG stops; then the options database (-ksp_type, -pc_type hypre, ...).
@@ -163,22 +161,19 @@ void NewtonPetsc<Real>::assemble() {
   const auto& fixed = problem_.fixed_axes();
   const Real* h = hessian_.element_hessians().data();
   DESCENT_PETSC_CHECK(MatZeroEntries(s.matrix));
-#pragma omp parallel for schedule(static)
+  // MatSetValues is not thread safe: one pass on one thread, each tet's
+  // block in double with its held rows and columns zeroed on the way.
+  PetscScalar block[144];
   for (index_t t = 0; t < nt; ++t) {
     bool held[12];
     for (int c = 0; c < 12; ++c) held[c] = (fixed[mesh.tets[4 * t + c / 3]] >> (c % 3)) & 1u;
-    PetscScalar* out = &s.values[144 * std::size_t(t)];
     const Real* in = h + 144 * std::size_t(t);
     for (int r = 0; r < 12; ++r)
       for (int c = 0; c < 12; ++c)
-        out[12 * r + c] = held[r] || held[c] ? 0.0 : double(in[12 * r + c]);
-  }
-  // MatSetValues is not thread safe: one thread inserts.
-  for (index_t t = 0; t < nt; ++t) {
+        block[12 * r + c] = held[r] || held[c] ? 0.0 : double(in[12 * r + c]);
     PetscInt blocks[4];
     for (int a = 0; a < 4; ++a) blocks[a] = block_[mesh.tets[4 * t + a]];
-    DESCENT_PETSC_CHECK(MatSetValuesBlocked(s.matrix, 4, blocks, 4, blocks,
-                                            &s.values[144 * std::size_t(t)], ADD_VALUES));
+    DESCENT_PETSC_CHECK(MatSetValuesBlocked(s.matrix, 4, blocks, 4, blocks, block, ADD_VALUES));
   }
   for (index_t v = 0; v < no; ++v)
     for (int i = 0; i < 3; ++i) {

@@ -3,6 +3,7 @@
 #include "common/error.hpp"
 
 #ifdef DESCENT_HAVE_PETSC
+#include <petsclog.h>
 #include <petscsys.h>
 #endif
 
@@ -37,6 +38,10 @@ void finish_petsc() {
   started = false;
 }
 
+long petsc_collectives() {
+  return static_cast<long>(petsc_allreduce_ct + petsc_gather_ct + petsc_scatter_ct);
+}
+
 #else
 
 bool petsc_compiled() { return false; }
@@ -48,6 +53,8 @@ void start_petsc(const std::string&, const std::string& what) {
 }
 
 void finish_petsc() {}
+
+long petsc_collectives() { return 0; }
 
 #endif
 

@@ -19,4 +19,12 @@ void start_petsc(const std::string& options, const std::string& what);
 // Before MPI_Finalize, on every rank; nothing when PETSc never started.
 void finish_petsc();
 
+// Collectives PETSc itself made since it started, by its own log counters
+// (the sum petsc_allreduce_ct + petsc_gather_ct + petsc_scatter_ct, as
+// -log_view's "Reductions"): MPI_Allreduce, Bcast, Reduce, Scan, Alltoall,
+// Allgather(v) on communicators of more than one rank (PETSc counts none on
+// one rank), Gather(v), Scatter(v). 0 in a build without PETSc. The study
+// adds it to our EnergyReduction's counts.
+long petsc_collectives();
+
 }  // namespace descent

@@ -10,17 +10,12 @@
 #include "solver/petsc/petsc_session.hpp"
 
 #ifdef DESCENT_HAVE_PETSC
-#include <petsclog.h>
 #include <petsctao.h>
 #endif
 
 namespace descent {
 
 #ifdef DESCENT_HAVE_PETSC
-
-long petsc_collectives() {
-  return static_cast<long>(petsc_allreduce_ct + petsc_gather_ct + petsc_scatter_ct);
-}
 
 template <class Real>
 struct TaoMethod<Real>::Petsc {
@@ -160,7 +155,8 @@ void TaoMethod<Real>::monitor(int k, double gnorm, const double* x) {
   local_norms2_.push_back(evaluated_here ? last_norm2_ : std::numeric_limits<double>::quiet_NaN());
   // TAO's iteration 0 is the initial guess, which MethodBase reported.
   if (k == 0) return;
-  unpack(x);
+  // q_ holds the last evaluated point: a halo exchange only for another one.
+  if (!evaluated_here) unpack(x);
   reported_ = k;
   this->report(k);
 }
@@ -232,8 +228,6 @@ void TaoMethod<Real>::iterate(StepStats& stats) {
 }
 
 #else
-
-long petsc_collectives() { return 0; }
 
 template <class Real>
 struct TaoMethod<Real>::Petsc {};
