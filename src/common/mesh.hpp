@@ -9,7 +9,12 @@
 
 namespace descent {
 
-using index_t = std::int32_t;  // vertex and tet indices; 2^31 tets is far beyond one run
+// Indices within one rank's data (local vertices, local tets, and the
+// whole Mesh a serial reader or test holds): 32-bit keeps the per-tet arrays
+// of the hot loops small. Ids of the global mesh, which a cluster run can
+// take past 2^31 tets, are global_index_t.
+using index_t = std::int32_t;
+using global_index_t = std::int64_t;
 
 // The four faces of a tet as corner indices, opposite corners 0..3, each
 // ordered counter-clockwise seen from outside a positively oriented tet.

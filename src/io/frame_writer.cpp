@@ -17,50 +17,20 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "io/hdf5_handle.hpp"
 #include "io/number_text.hpp"
 
 namespace descent {
 namespace {
 
 namespace fs = std::filesystem;
+using hdf5::check;
+using hdf5::Hid;
+using hdf5::owned;
 
 constexpr const char* kH5Name = "frames.h5";
 constexpr const char* kXdmfName = "frames.xdmf";
 constexpr int kLastFrame = 999999;  // frame groups are named with 6 digits
-
-// Owns one HDF5 identifier and releases it with the matching H5*close.
-class Hid {
- public:
-  using Close = herr_t (*)(hid_t);
-  Hid() = default;
-  Hid(hid_t id, Close close) : id_(id), close_(close) {}
-  Hid(Hid&& other) noexcept
-      : id_(std::exchange(other.id_, H5I_INVALID_HID)), close_(other.close_) {}
-  Hid& operator=(Hid&& other) noexcept {
-    std::swap(id_, other.id_);
-    std::swap(close_, other.close_);
-    return *this;
-  }
-  ~Hid() {
-    if (id_ >= 0) close_(id_);  // a failed close cannot be reported from here
-  }
-  hid_t get() const { return id_; }
-
- private:
-  hid_t id_ = H5I_INVALID_HID;
-  Close close_ = nullptr;
-};
-
-// HDF5 calls return a negative value on failure; `where` names the file and object.
-template <class Result>
-Result check(Result result, const char* call, const std::string& where) {
-  if (result < 0) throw Hdf5Error(detail::concat(call, " failed for ", where));
-  return result;
-}
-
-Hid owned(hid_t id, Hid::Close close, const char* call, const std::string& where) {
-  return Hid(check(id, call, where), close);
-}
 
 // Rank 0 alone touched the file system and got `error_on_rank0` (an errno
 // value, 0 for success). Every rank throws the same error, so that no rank is
