@@ -28,6 +28,8 @@ auto agree(MPI_Comm comm, Phase&& phase) -> decltype(phase()) {
     result = phase();
   } catch (const ReportedFailure&) {
     throw;  // an inner agree() has already made every rank throw this
+  } catch (const PeerFailure&) {
+    // Another rank failed and reports its own error below.
   } catch (const Error& e) {
     error = e.what();
   } catch (const std::exception& e) {

@@ -11,9 +11,9 @@
 
 #include "app/agree.hpp"
 #include "app/console.hpp"
+#include "app/mesh_setup.hpp"
 #include "app/non_finite_stop.hpp"
 #include "app/run_identity.hpp"
-#include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
 #include "app/stop_request.hpp"
 #include "common/error.hpp"
@@ -26,34 +26,41 @@ namespace {
 
 // Global ids of the tets this rank writes and their global vertex ids.
 struct TetOutput {
-  std::vector<index_t> ids, vertices;
+  std::vector<global_index_t> vertices;
 };
 
 TetOutput tet_output(const LocalMesh& local) {
   TetOutput out;
-  out.ids = local.global_tet;
   out.vertices.resize(local.tets.size());
   for (std::size_t k = 0; k < local.tets.size(); ++k)
     out.vertices[k] = local.global_vertex[local.tets[k]];
   return out;
 }
 
-// One line per fixed region with the number of vertices it holds; a region
-// that holds none is almost always a mistake in its box, so it is a warning
-// (on stderr, even with --quiet).
-void report_fixed_regions(const Scene& scene, const Mesh& mesh, bool talk) {
+// One line per fixed region with the number of vertices it holds (each
+// counted by its owner, summed over ranks); a region that holds none is
+// almost always a mistake in its box, so it is a warning (on stderr, even
+// with --quiet). Collective.
+void report_fixed_regions(MPI_Comm comm, const Scene& scene, const LocalMesh& local, bool talk) {
+  if (scene.fixed.empty()) return;
+  std::vector<long long> count(scene.fixed.size(), 0);
+  for (std::size_t r = 0; r < scene.fixed.size(); ++r)
+    for (index_t v = 0; v < local.num_owned; ++v)
+      count[r] += scene.fixed[r].contains(&local.rest_positions[3 * static_cast<std::size_t>(v)]);
+  MPI_Allreduce(MPI_IN_PLACE, count.data(), static_cast<int>(count.size()), MPI_LONG_LONG, MPI_SUM,
+                comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank != 0) return;
   for (std::size_t r = 0; r < scene.fixed.size(); ++r) {
     const FixedRegion& region = scene.fixed[r];
-    index_t count = 0;
-    for (index_t v = 0; v < mesh.num_vertices(); ++v)
-      count += region.contains(&mesh.positions[3 * static_cast<std::size_t>(v)]) ? 1 : 0;
     const auto& lo = region.box_min;
     const auto& hi = region.box_max;
-    if (count == 0)
+    if (count[r] == 0)
       warn("fixed.%zu holds no vertex: [%g, %g, %g] - [%g, %g, %g] misses the mesh", r, lo[0],
            lo[1], lo[2], hi[0], hi[1], hi[2]);
     else if (talk)
-      inform("fixed.%zu: %d vertices in [%g, %g, %g] - [%g, %g, %g], axes %s", r, count, lo[0],
+      inform("fixed.%zu: %lld vertices in [%g, %g, %g] - [%g, %g, %g], axes %s", r, count[r], lo[0],
              lo[1], lo[2], hi[0], hi[1], hi[2], region.axes.c_str());
   }
 }
@@ -176,23 +183,21 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   const bool talk = rank == 0 && !options.quiet;
   const char* precision = sizeof(Real) == 4 ? "float" : "double";
 
-  MeshReadReport report;
-  const Mesh mesh = build_scene_mesh(scene.mesh, &report);
-  if (rank == 0)
-    for (const auto& w : report.warnings) warn("%s", w.c_str());
-  if (talk)
-    inform("%s: %d vertices, %d tets on %d rank(s) x %d thread(s), %s", mesh.source.c_str(),
-           mesh.num_vertices(), mesh.num_tets(), size, omp_get_max_threads(), precision);
-  if (rank == 0) report_fixed_regions(scene, mesh, talk);
+  MeshSetupOptions setup;
+  setup.partition_file = options.partition_file;
+  setup.talk = talk;
+  DistributedMesh mesh = set_up_mesh(comm, scene, setup);
+  const UnusedVertices unused = std::move(mesh.unused);
+  if (talk) inform("%d rank(s) x %d thread(s), %s", size, omp_get_max_threads(), precision);
+  report_fixed_regions(comm, scene, mesh.local, talk);
 
-  Simulation<Real> sim(comm, scene, mesh, backend);
+  Simulation<Real> sim(comm, scene, std::move(mesh), backend);
   if (talk && backend.kind != BackendKind::cpu)
     inform("backend %s: %s", to_string(backend.kind), sim.device_memory_report().c_str());
-  if (talk && size > 1)
-    inform("%s", describe(partition_quality(mesh, sim.tet_part(), size)).c_str());
 
   const LocalMesh& local = sim.local_mesh();
-  const std::string identity = run_identity(scene, mesh_digest(comm, local), precision);
+  const std::string identity =
+      run_identity(scene, {mesh_digest(comm, local), partition_digest(comm, local)}, precision);
   auto checkpoint_of = [&](int frame) {
     Checkpoint c = sim.checkpoint(frame);
     c.identity = identity;
@@ -202,12 +207,14 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   const std::vector<double> rest(local.rest_positions.begin(),
                                  local.rest_positions.begin() + 3 * local.num_owned);
   FrameWriterLayout layout;
-  layout.num_global_vertices = mesh.num_vertices();
-  layout.num_global_tets = mesh.num_tets();
+  layout.num_global_vertices = local.num_global_vertices;
+  layout.num_global_tets = local.num_global_tets;
   layout.owned_vertex_ids = std::span(local.global_vertex.data(), local.num_owned);
-  layout.tet_ids = tets.ids;
+  layout.tet_ids = local.global_tet;
   layout.tet_vertices = tets.vertices;
   layout.owned_rest_positions = rest;
+  layout.unused_vertex_ids = unused.ids;
+  layout.unused_rest_positions = unused.positions;
   // A restart continues in place.
   int first_frame = 1;
   if (options.restart) {
@@ -360,7 +367,7 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   if (talk && frames_run > 0) {
     const double ns_per_tet_iteration =
         total_iterations > 0
-            ? 1e6 * total_ms / (static_cast<double>(mesh.num_tets()) * total_iterations)
+            ? 1e6 * total_ms / (static_cast<double>(local.num_global_tets) * total_iterations)
             : 0.0;
     inform("%d frames in %.1f s, %.1f ms/frame, %.1f ns per tet-iteration", frames_run,
            total_ms / 1e3, total_ms / frames_run, ns_per_tet_iteration);

@@ -23,6 +23,10 @@ struct RunOptions {
   // double on the CPU).
   std::string precision = "auto";
   BackendRequest backend;  // --backend, --assembly, --share-device, --no-graphs
+  // --partition PIECES.h5: this rank's piece of a partition made beforehand
+  // by `descent partition` (for as many ranks as this run has); empty:
+  // partition now.
+  std::string partition_file;
 };
 
 // Returns the process exit code: 0 on success, kStoppedExitCode

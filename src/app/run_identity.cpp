@@ -78,22 +78,35 @@ std::uint64_t mesh_digest(MPI_Comm comm, const LocalMesh& local) {
   std::uint64_t sum = 0;
   for (index_t v = 0; v < local.num_owned; ++v) {
     ItemHash h;
-    h.add(std::int64_t{local.global_vertex[v]});
+    h.add(local.global_vertex[v]);
     for (int i = 0; i < 3; ++i) h.add(local.rest_positions[3 * static_cast<std::size_t>(v) + i]);
     sum += h.value();
   }
   for (index_t t = 0; t < local.num_tets(); ++t) {
     ItemHash h;
-    h.add(~std::int64_t{local.global_tet[t]});  // apart from the vertex ids
+    h.add(~local.global_tet[t]);  // apart from the vertex ids
     for (int c = 0; c < 4; ++c)
-      h.add(std::int64_t{local.global_vertex[local.tets[4 * static_cast<std::size_t>(t) + c]]});
+      h.add(local.global_vertex[local.tets[4 * static_cast<std::size_t>(t) + c]]);
     sum += h.value();
   }
   DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_UINT64_T, MPI_SUM, comm));
   return sum;
 }
 
-std::string run_identity(const Scene& scene, std::uint64_t digest, const std::string& precision) {
+std::uint64_t partition_digest(MPI_Comm comm, const LocalMesh& local) {
+  std::uint64_t sum = 0;
+  for (const global_index_t id : local.global_tet) {
+    ItemHash h;
+    h.add(std::int64_t{local.rank});
+    h.add(std::int64_t{id});
+    sum += h.value();
+  }
+  DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_UINT64_T, MPI_SUM, comm));
+  return sum;
+}
+
+std::string run_identity(const Scene& scene, const MeshDigests& digests,
+                         const std::string& precision) {
   std::string text;
   auto line = [&](const std::string& key, const auto& value) {
     if (!restart_may_change(key)) text += key + " = " + as_text(value) + "\n";
@@ -109,7 +122,8 @@ std::string run_identity(const Scene& scene, std::uint64_t digest, const std::st
         line(std::string(name) + "." + std::to_string(e) + "." + key, value);
       });
   });
-  line("mesh.digest", digest);
+  line("mesh.digest", digests.mesh);
+  line("partition.digest", digests.partition);
   line("precision", precision);
   return text;
 }
@@ -120,9 +134,17 @@ std::string identity_difference(const std::string& saved, const std::string& now
   const auto current = entries(now, &order);
   for (const std::string& key : order) {
     const auto it = then.find(key);
+    if (it == then.end() && key == "partition.digest")
+      return "the checkpoint's run predates partition digests: this version partitions "
+             "differently and cannot continue it (run it again from the start)";
     if (it == then.end())
       return key + " = " + current.at(key) + " is new (the checkpoint's run had no such entry)";
     if (it->second == current.at(key)) continue;
+    if (key == "partition.digest")
+      return "the partition differs (partition.digest, a hash of which rank holds which tet, is " +
+             current.at(key) + " now but was " + it->second +
+             " in the checkpoint's run): restart with the partition.method and --partition "
+             "file the run was made with";
     if (key == "mesh.digest")
       return "the mesh differs (mesh.digest, a hash of its vertex ids, coordinates and tets, is " +
              current.at(key) + " now but was " + it->second + " in the checkpoint's run)";

@@ -5,6 +5,8 @@
 //   every [[fixed]] and [[load]] entry's keys (fixed.0.box_min, ...),
 //   mesh.digest   a hash of the rest mesh (ids, coordinates, tets), the
 //                 same whatever the rank count or partition,
+//   partition.digest  a hash of which rank holds which tet (a checkpoint
+//                 holds one rank's local state, in its local order),
 //   precision     the solver's real type ("float" or "double").
 // Text, not a bare hash, so a mismatch can name the key that differs.
 #include <mpi.h>
@@ -13,7 +15,7 @@
 #include <string>
 
 #include "io/scene.hpp"
-#include "partition/partition.hpp"
+#include "partition/local_mesh.hpp"
 
 namespace descent {
 
@@ -27,7 +29,14 @@ inline constexpr const char* kRestartMayChange[] = {"time.frames", "output.dir",
 // and every local tet (global id, global vertex ids) over the ranks.
 std::uint64_t mesh_digest(MPI_Comm comm, const LocalMesh& local);
 
-std::string run_identity(const Scene& scene, std::uint64_t mesh_digest,
+// Collective: a hash of (rank, global tet id) over every local tet.
+std::uint64_t partition_digest(MPI_Comm comm, const LocalMesh& local);
+
+struct MeshDigests {
+  std::uint64_t mesh = 0, partition = 0;
+};
+
+std::string run_identity(const Scene& scene, const MeshDigests& digests,
                          const std::string& precision);
 
 // Empty when `saved` and `now` agree; else one sentence naming the first key

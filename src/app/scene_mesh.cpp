@@ -5,23 +5,39 @@
 
 namespace descent {
 
-Mesh build_scene_mesh(const MeshSpec& spec, MeshReadReport* report) {
-  if (!spec.file.empty()) {
-    Mesh mesh = read_mesh(spec.file, report);
-    if (spec.scale != 1.0)
-      for (double& x : mesh.positions) x *= spec.scale;
-    return mesh;
-  }
-  Mesh mesh;
-  if (spec.generator == "double_helix")
-    mesh = make_double_helix(spec.helix);
-  else if (spec.generator == "box")
-    mesh = make_box(spec.box);
-  else
+namespace {
+
+void check_generator(const MeshSpec& spec) {
+  if (spec.generator != "double_helix" && spec.generator != "box")
     throw InputError("mesh.generator '" + spec.generator + "' is not one of: double_helix, box");
-  if (spec.scale != 1.0)
-    for (double& x : mesh.positions) x *= spec.scale;
+}
+
+void scale(std::vector<double>& positions, double factor) {
+  if (factor != 1.0)
+    for (double& x : positions) x *= factor;
+}
+
+}  // namespace
+
+Mesh build_scene_mesh(const MeshSpec& spec, MeshReadReport* report) {
+  Mesh mesh;
+  if (!spec.file.empty()) {
+    mesh = read_mesh(spec.file, report);
+  } else {
+    check_generator(spec);
+    mesh = spec.generator == "double_helix" ? make_double_helix(spec.helix) : make_box(spec.box);
+  }
+  scale(mesh.positions, spec.scale);
   return mesh;
+}
+
+MeshSlice build_scene_mesh_slice(MPI_Comm comm, const MeshSpec& spec, MeshReadReport* report) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  // Until the slice readers and generators land: the whole mesh, sliced.
+  MeshSlice slice = slice_of(build_scene_mesh(spec, report), rank, size);
+  return slice;
 }
 
 }  // namespace descent

@@ -8,55 +8,7 @@
 
 namespace descent {
 
-std::vector<int> partition_on_root(MPI_Comm comm, const Mesh& mesh) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  std::vector<int> part;
-  // A METIS failure on rank 0 must end every rank, so its verdict travels
-  // with the broadcast.
-  std::string error;
-  if (rank == 0) {
-    try {
-      part = partition_tets(mesh, size);
-    } catch (const MetisError& e) {
-      error = e.what();
-    }
-  }
-  int error_length = static_cast<int>(error.size());
-  DESCENT_MPI_CHECK(MPI_Bcast(&error_length, 1, MPI_INT, 0, comm));
-  if (error_length > 0) {
-    error.resize(error_length);
-    DESCENT_MPI_CHECK(MPI_Bcast(error.data(), error_length, MPI_CHAR, 0, comm));
-    throw MetisError(error);
-  }
-  part.resize(mesh.num_tets());
-  DESCENT_MPI_CHECK(MPI_Bcast(part.data(), mesh.num_tets(), MPI_INT, 0, comm));
-  return part;
-}
-
 namespace {
-
-int comm_rank(MPI_Comm comm) {
-  int r = 0;
-  MPI_Comm_rank(comm, &r);
-  return r;
-}
-int comm_size(MPI_Comm comm) {
-  int s = 1;
-  MPI_Comm_size(comm, &s);
-  return s;
-}
-
-// Share of each load region's force per global vertex.
-std::vector<std::vector<double>> scene_load_weights(const Scene& scene, const Mesh& mesh) {
-  std::vector<std::vector<double>> weights;
-  if (scene.loads.empty()) return weights;
-  const std::vector<Face> faces = boundary_faces(mesh);
-  for (std::size_t r = 0; r < scene.loads.size(); ++r)
-    weights.push_back(load_weights(mesh, faces, scene.loads[r], detail::concat("load.", r)));
-  return weights;
-}
 
 bool scene_needs_measurements(const Scene& scene) {
   bool moving = false;
@@ -84,19 +36,24 @@ std::vector<std::string> scene_measurement_names(const Scene& scene) {
 }  // namespace
 
 template <class Real>
-Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
+Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, DistributedMesh mesh,
                              const BackendChoice& backend)
     : scene_(scene),
-      num_global_vertices_(mesh.num_vertices()),
-      num_global_tets_(mesh.num_tets()),
+      num_global_vertices_(mesh.local.num_global_vertices),
+      num_global_tets_(mesh.local.num_global_tets),
       measurement_names_(scene_measurement_names(scene)),
-      tet_part_(partition_on_root(comm, mesh)),
-      local_(build_local_mesh(mesh, tet_part_, comm_rank(comm), comm_size(comm))),
+      quality_(std::move(mesh.quality)),
+      local_(std::move(mesh.local)),
       halo_(comm, local_),
       reduction_(comm),
-      problem_(local_, scene, halo_, reduction_, scene_load_weights(scene, mesh)),
+      problem_(local_, scene, halo_, reduction_),
       solver_(make_backend_stepper(problem_, halo_, scene.solver, backend)),
       state_(rest_state<Real>(local_)) {}
+
+template <class Real>
+Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
+                             const BackendChoice& backend)
+    : Simulation(comm, scene, distribute_mesh(comm, mesh, scene.partition.method), backend) {}
 
 template <class Real>
 void Simulation<Real>::set_positions(const std::vector<double>& global_xyz) {

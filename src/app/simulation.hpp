@@ -1,8 +1,8 @@
 #pragma once
 // One run's distributed set-up and time stepping, for the command line, the
-// tests and the benchmarks alike: the global mesh is partitioned (METIS on
-// rank 0, the parts broadcast), each rank builds its LocalMesh, halo,
-// problem and solver, and step() advances every rank by one time step.
+// tests and the benchmarks alike: from its piece of the partitioned mesh
+// (partition/distribute.hpp) each rank builds its halo, problem and solver,
+// and step() advances every rank by one time step.
 #include <mpi.h>
 
 #include <memory>
@@ -15,7 +15,7 @@
 #include "common/mesh.hpp"
 #include "io/checkpoint.hpp"
 #include "io/scene.hpp"
-#include "partition/partition.hpp"
+#include "partition/distribute.hpp"
 #include "solver/local_problem.hpp"
 #include "solver/stepper.hpp"
 
@@ -24,8 +24,13 @@ namespace descent {
 template <class Real>
 class Simulation {
  public:
-  // Collective over comm. Every rank passes the same global mesh. `backend`
-  // picks the stepper's backend (backends/backend.hpp; default: the CPU).
+  // Collective over comm. Every rank passes its own piece of the mesh.
+  // `backend` picks the stepper's backend (backends/backend.hpp; default:
+  // the CPU).
+  Simulation(MPI_Comm comm, const Scene& scene, DistributedMesh mesh,
+             const BackendChoice& backend = {});
+  // The same from a whole mesh every rank holds (tests, small meshes): each
+  // rank takes its slice, and the set-up partitions it as scene.partition says.
   Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
              const BackendChoice& backend = {});
 
@@ -52,7 +57,7 @@ class Simulation {
   // problem, started from this state.
   LocalProblem<Real>& problem() { return problem_; }
   const BodyState<Real>& state() const { return state_; }
-  const std::vector<int>& tet_part() const { return tet_part_; }
+  const PartitionQuality& partition_quality() const { return quality_; }
   const HaloCounters& halo_counters() const { return halo_.counters(); }
   const ReductionCounters& reduction_counters() const { return reduction_.counters(); }
   const Stepper<Real>& stepper() const { return *solver_; }
@@ -79,7 +84,7 @@ class Simulation {
   long long num_global_vertices_;
   long long num_global_tets_;
   std::vector<std::string> measurement_names_;
-  std::vector<int> tet_part_;
+  PartitionQuality quality_;
   LocalMesh local_;
   Halo<Real> halo_;
   EnergyReduction reduction_;
@@ -87,8 +92,5 @@ class Simulation {
   std::unique_ptr<Stepper<Real>> solver_;
   BodyState<Real> state_;
 };
-
-// METIS on rank 0 of comm, the result broadcast (one partition for all).
-std::vector<int> partition_on_root(MPI_Comm comm, const Mesh& mesh);
 
 }  // namespace descent

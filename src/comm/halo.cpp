@@ -4,7 +4,7 @@
 
 #include "comm/mpi_check.hpp"
 #include "common/error.hpp"
-#include "partition/partition.hpp"
+#include "partition/local_mesh.hpp"
 
 namespace descent {
 

@@ -23,6 +23,15 @@ struct MetisError : Error {
 struct Hdf5Error : Error {
   using Error::Error;
 };
+// Partitioning failed (PT-Scotch, or a part left without tets).
+struct PartitionError : Error {
+  using Error::Error;
+};
+// Thrown, inside a collective phase, on the ranks whose own work succeeded
+// when another rank failed: that rank's error is the one to report.
+struct PeerFailure : Error {
+  PeerFailure() : Error("another rank failed") {}
+};
 // An internal invariant broke: a bug in descent, not in the input.
 struct LogicError : Error {
   using Error::Error;

@@ -55,7 +55,7 @@ std::string frame_name(int frame) {
 }
 
 // Positions k of `ids` such that ids[order[0]] < ids[order[1]] < ...
-std::vector<std::size_t> ascending_order(std::span<const index_t> ids) {
+std::vector<std::size_t> ascending_order(std::span<const global_index_t> ids) {
   std::vector<std::size_t> order(ids.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(),
@@ -72,11 +72,12 @@ std::vector<T> permute_rows(std::span<const T> rows, std::span<const std::size_t
   return permuted;
 }
 
-bool all_below(std::span<const index_t> ids, index_t end) {
-  return std::all_of(ids.begin(), ids.end(), [&](index_t id) { return id >= 0 && id < end; });
+bool all_below(std::span<const global_index_t> ids, global_index_t end) {
+  return std::all_of(ids.begin(), ids.end(),
+                     [&](global_index_t id) { return id >= 0 && id < end; });
 }
 
-bool has_duplicates(std::span<const index_t> sorted_ids) {
+bool has_duplicates(std::span<const global_index_t> sorted_ids) {
   return std::adjacent_find(sorted_ids.begin(), sorted_ids.end()) != sorted_ids.end();
 }
 
@@ -85,7 +86,7 @@ hid_t native_type() {
   if constexpr (std::is_same_v<T, double>)
     return H5T_NATIVE_DOUBLE;
   else
-    return H5T_NATIVE_INT32;
+    return H5T_NATIVE_INT64;
 }
 
 // A [rows, cols] dataset in the default contiguous layout.
@@ -108,7 +109,7 @@ Hid create_dataset(hid_t parent, const char* name, hid_t file_type, hsize_t rows
 // takes time quadratic in the number of runs to build in HDF5 1.10.) It is
 // built per call because HDF5 stores one node per selected element.
 template <class T>
-void write_rows(hid_t dataset, hid_t transfer, std::span<const index_t> sorted_ids, int cols,
+void write_rows(hid_t dataset, hid_t transfer, std::span<const global_index_t> sorted_ids, int cols,
                 std::span<const T> rows, const std::string& where) {
   Hid file_space = owned(H5Dget_space(dataset), H5Sclose, "H5Dget_space", where);
   const hsize_t num_rows = sorted_ids.size();
@@ -122,7 +123,7 @@ void write_rows(hid_t dataset, hid_t transfer, std::span<const index_t> sorted_i
   } else {
     std::vector<hsize_t> coordinates;  // (row, col) of each element, memory order
     coordinates.reserve(2 * num_rows * cols);
-    for (index_t row : sorted_ids) {
+    for (global_index_t row : sorted_ids) {
       for (int col = 0; col < cols; ++col) {
         coordinates.push_back(static_cast<hsize_t>(row));
         coordinates.push_back(static_cast<hsize_t>(col));
@@ -153,7 +154,7 @@ int write_file_atomically(const fs::path& path, const std::string& text) {
 }
 
 // A DataItem naming a float64 [num_vertices, 3] dataset of frames.h5.
-std::string xdmf_vertex_item(index_t num_vertices, const std::string& path) {
+std::string xdmf_vertex_item(global_index_t num_vertices, const std::string& path) {
   std::ostringstream item;
   item << "<DataItem Dimensions=\"" << num_vertices
        << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << kH5Name << ":" << path
@@ -161,7 +162,8 @@ std::string xdmf_vertex_item(index_t num_vertices, const std::string& path) {
   return item.str();
 }
 
-std::string xdmf_vertex_attribute(const char* name, index_t num_vertices, const std::string& path) {
+std::string xdmf_vertex_attribute(const char* name, global_index_t num_vertices,
+                                  const std::string& path) {
   return detail::concat("        <Attribute Name=\"", name,
                         "\" AttributeType=\"Vector\" Center=\"Node\">\n          ",
                         xdmf_vertex_item(num_vertices, path), "\n        </Attribute>\n");
@@ -171,7 +173,8 @@ std::string xdmf_vertex_attribute(const char* name, index_t num_vertices, const 
 // its Geometry, its displacement and velocity as node Attributes. The first
 // grid (`first`) holds the Topology, the others include that one, so that the
 // connectivity is named once.
-std::string xdmf_grid(int frame, double time, index_t num_vertices, index_t num_tets, bool first) {
+std::string xdmf_grid(int frame, double time, global_index_t num_vertices, global_index_t num_tets,
+                      bool first) {
   const std::string group = std::string("/frames/") + frame_name(frame);
   std::ostringstream grid;
   grid << "      <Grid Name=\"frame_" << frame_name(frame) << "\" GridType=\"Uniform\">\n"
@@ -213,10 +216,10 @@ struct FrameWriter::Impl {
   // written past its last checkpoint) and rebuilds the XDMF list up to it.
   void resume(int last);
   void verify_layout(const FrameWriterLayout& layout,
-                     std::span<const index_t> sorted_tet_ids) const;
+                     std::span<const global_index_t> sorted_tet_ids) const;
   void create_output_directory() const;
   void write_mesh(const FrameWriterLayout& layout, std::span<const std::size_t> tet_order,
-                  std::span<const index_t> sorted_tet_ids);
+                  std::span<const global_index_t> sorted_tet_ids);
   void write_frame(int frame, double time, std::span<const double> owned_positions,
                    std::span<const double> owned_velocities);
   // Creates `name` in `group` and writes the owned rows, already in
@@ -227,12 +230,12 @@ struct FrameWriter::Impl {
   MPI_Comm comm;  // the caller's; it outlives the writer
   int rank = 0;
   fs::path dir;
-  index_t num_vertices;
-  index_t num_tets;
+  global_index_t num_vertices;
+  global_index_t num_tets;
   // Owned vertex k of the caller's order is row sorted_vertex_ids[k'] of the
   // file, where vertex_order[k'] == k.
   std::vector<std::size_t> vertex_order;
-  std::vector<index_t> sorted_vertex_ids;
+  std::vector<global_index_t> sorted_vertex_ids;
   // The owned rest positions in sorted_vertex_ids order, for the displacements.
   std::vector<double> sorted_rest_positions;
   std::string xdmf_grids;  // rank 0: one <Grid> per written frame
@@ -319,7 +322,7 @@ void FrameWriter::Impl::resume(int last) {
 // Each rank checks its own part; the summed counts show that the parts cover
 // the mesh (with no duplicates on a rank, this catches most mistakes).
 void FrameWriter::Impl::verify_layout(const FrameWriterLayout& layout,
-                                      std::span<const index_t> sorted_tet_ids) const {
+                                      std::span<const global_index_t> sorted_tet_ids) const {
   long long owned_counts[2] = {static_cast<long long>(sorted_vertex_ids.size()),
                                static_cast<long long>(sorted_tet_ids.size())};
   MPI_Allreduce(MPI_IN_PLACE, owned_counts, 2, MPI_LONG_LONG, MPI_SUM, comm);
@@ -354,7 +357,7 @@ void FrameWriter::Impl::create_output_directory() const {
 
 void FrameWriter::Impl::write_mesh(const FrameWriterLayout& layout,
                                    std::span<const std::size_t> tet_order,
-                                   std::span<const index_t> sorted_tet_ids) {
+                                   std::span<const global_index_t> sorted_tet_ids) {
   const std::string h5 = (dir / kH5Name).string();
   Hid mesh = owned(H5Gcreate2(file.get(), "/mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
                    "H5Gcreate2", h5 + ":/mesh");
@@ -366,7 +369,7 @@ void FrameWriter::Impl::write_mesh(const FrameWriterLayout& layout,
   Hid tets = create_dataset(mesh.get(), "tets", H5T_STD_I32LE, num_tets, 4, tets_where);
   const auto sorted_tet_vertices = permute_rows(layout.tet_vertices, tet_order, 4);
   write_rows(tets.get(), collective_transfer.get(), sorted_tet_ids, 4,
-             std::span<const index_t>(sorted_tet_vertices), tets_where);
+             std::span<const global_index_t>(sorted_tet_vertices), tets_where);
 }
 
 void FrameWriter::Impl::write_vertex_dataset(hid_t group, const char* name,

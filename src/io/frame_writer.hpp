@@ -35,17 +35,20 @@
 namespace descent {
 
 struct FrameWriterLayout {
-  index_t num_global_vertices = 0;
-  index_t num_global_tets = 0;
+  global_index_t num_global_vertices = 0;
+  global_index_t num_global_tets = 0;
   // Vertices this rank writes (each global vertex is written by exactly one
   // rank): their global ids, ascending or not.
-  std::span<const index_t> owned_vertex_ids;
+  std::span<const global_index_t> owned_vertex_ids;
   // Tets this rank writes (each global tet by exactly one rank): their global
   // tet ids and their 4 global vertex ids each (4 * size entries).
-  std::span<const index_t> tet_ids;
-  std::span<const index_t> tet_vertices;
+  std::span<const global_index_t> tet_ids;
+  std::span<const global_index_t> tet_vertices;
   // Rest positions of the owned vertices, 3 per vertex in owned_vertex_ids order.
   std::span<const double> owned_rest_positions;
+  // Vertices no tet uses, each listed by one rank: written at rest.
+  std::span<const global_index_t> unused_vertex_ids;
+  std::span<const double> unused_rest_positions;
 };
 
 class FrameWriter {

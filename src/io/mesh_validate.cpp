@@ -8,6 +8,7 @@
 #include <tuple>
 #include <vector>
 
+#include "common/tet_orientation.hpp"
 #include "io/mesh_io_detail.hpp"
 
 namespace descent::mesh_io_detail {
@@ -80,39 +81,17 @@ void check_coordinates(const Mesh& mesh, const MeshOrigin& origin) {
 }
 
 // Flips negatively oriented tets (swapping their last two vertices) and
-// returns how many; a tet whose volume is zero up to rounding is an error.
+// returns how many; a flat tet, or one too large for doubles, is an error.
 index_t orient_tets(Mesh& mesh, const MeshOrigin& origin) {
-  // |det| below this times L^3 (L the longest edge) is rounding noise of a flat tet.
-  constexpr double kFlatRelativeVolume = 1e-14;
   index_t flipped = 0;
   for (index_t t = 0; t < mesh.num_tets(); ++t) {
     index_t* v = &mesh.tets[4 * static_cast<std::size_t>(t)];
     std::array<const double*, 4> x;
     for (int k = 0; k < 4; ++k) x[k] = &mesh.positions[3 * static_cast<std::size_t>(v[k])];
-    double longest_squared = 0;
-    for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) {
-        const double dx = x[b][0] - x[a][0], dy = x[b][1] - x[a][1], dz = x[b][2] - x[a][2];
-        longest_squared = std::max(longest_squared, dx * dx + dy * dy + dz * dz);
-      }
-    std::array<std::array<double, 3>, 3> e;  // edges from vertex 0
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 3; ++d) e[k][d] = x[k + 1][d] - x[0][d];
-    const double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
-                       e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
-                       e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
-    const double longest = std::sqrt(longest_squared);
-    // Coordinates near the double range make the volume overflow (inf, or
-    // NaN from 0 * inf): no solver can use such a tet.
-    if (!std::isfinite(det) || !std::isfinite(longest * longest * longest))
-      fail_tet(origin, t,
-               detail::concat("has a volume that overflows double precision: its vertices ",
-                              vertex_list(mesh, origin, t), " are too far apart"));
-    if (std::abs(det) <= kFlatRelativeVolume * longest * longest * longest)
-      fail_tet(origin, t,
-               detail::concat("has zero volume: its vertices ", vertex_list(mesh, origin, t),
-                              " are coplanar"));
-    if (det < 0) {
+    const TetOrientation orientation = tet_orientation(x);
+    if (orientation == TetOrientation::flat || orientation == TetOrientation::overflows)
+      fail_tet(origin, t, bad_tet_description(orientation, vertex_list(mesh, origin, t)));
+    if (orientation == TetOrientation::negative) {
       std::swap(v[2], v[3]);
       ++flipped;
     }

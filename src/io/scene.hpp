@@ -12,8 +12,9 @@ namespace descent {
 
 struct MeshSpec {
   std::string generator;  // "double_helix" or "box"; empty when `file` is set
-  std::string file;       // .msh (Gmsh 2.2/4.1), .mesh (MEDIT), .node/.ele (TetGen)
-  double scale = 1.0;     // applied to file coordinates (files have no units)
+  std::string
+      file;  // .h5 (read in parallel), .msh (Gmsh 2.2/4.1), .mesh (MEDIT), .node/.ele (TetGen)
+  double scale = 1.0;  // applied to file coordinates (files have no units)
   DoubleHelixParams helix;
   BoxParams box;
 };
@@ -163,6 +164,13 @@ struct SolverSpec {
   double rayleigh_stiffness = 0.0;  // beta (s): stiffness-proportional Rayleigh damping
 };
 
+// How the mesh is split across ranks (src/partition/graph_partition.hpp):
+// "auto" (METIS below 500K tets, PT-Scotch above), "metis" (on rank 0, the
+// quality reference) or "ptscotch" (in parallel).
+struct PartitionSpec {
+  std::string method = "auto";
+};
+
 struct OutputSpec {
   std::string dir = "out";
   int every = 1;  // write every n-th frame
@@ -180,6 +188,7 @@ struct Scene {
   std::vector<LoadRegion> loads;  // [[load]]
   TimeSpec time;
   SolverSpec solver;
+  PartitionSpec partition;
   OutputSpec output;
 };
 

@@ -354,6 +354,8 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require(doc, solver.eta >= 0, "solver.eta", ">= 0", solver.eta);
   require(doc, solver.damping >= 0, "solver.damping", ">= 0", solver.damping);
 
+  require_one_of(doc, "partition.method", scene.partition.method, {"auto", "metis", "ptscotch"});
+
   if (scene.output.dir.empty()) {
     throw InputError(detail::concat(doc.where("output.dir"), ": output.dir must not be empty"));
   }

@@ -88,6 +88,8 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("solver.polar_sweeps", solver.polar_sweeps);
   visit("solver.rayleigh_stiffness", solver.rayleigh_stiffness);
 
+  visit("partition.method", scene.partition.method);
+
   visit("output.dir", scene.output.dir);
   visit("output.every", scene.output.every);
   visit("output.checkpoint_every", scene.output.checkpoint_every);

@@ -7,57 +7,32 @@
 
 namespace descent {
 
-std::vector<Face> boundary_faces(const Mesh& mesh) {
-  // Sort the faces by their sorted vertex triple: a boundary face appears once.
-  std::vector<std::pair<Face, Face>> all;  // (sorted key, face as in the tet)
-  all.reserve(4 * static_cast<std::size_t>(mesh.num_tets()));
+std::vector<double> local_load_areas(const LocalMesh& mesh, const LoadRegion& region,
+                                     double* area) {
+  std::vector<double> share(mesh.num_vertices(), 0.0);
+  *area = 0;
   for (index_t t = 0; t < mesh.num_tets(); ++t) {
-    for (const auto& f : kTetFaces) {
-      Face face{mesh.tets[4 * t + f[0]], mesh.tets[4 * t + f[1]], mesh.tets[4 * t + f[2]]};
-      Face key = face;
-      std::sort(key.begin(), key.end());
-      all.emplace_back(key, face);
+    for (int f = 0; f < 4; ++f) {
+      if (!(mesh.surface_faces[t] & (1u << f))) continue;
+      index_t v[3];
+      const double* p[3];
+      bool inside = true;
+      for (int k = 0; k < 3; ++k) {
+        v[k] = mesh.tets[4 * static_cast<std::size_t>(t) + kTetFaces[f][k]];
+        p[k] = &mesh.rest_positions[3 * static_cast<std::size_t>(v[k])];
+        inside = inside && region.contains(p[k]);
+      }
+      if (!inside) continue;
+      const double u[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+      const double w[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+      const double c[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                           u[0] * w[1] - u[1] * w[0]};
+      const double face_area = 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+      for (int k = 0; k < 3; ++k) share[v[k]] += face_area / 3.0;
+      *area += face_area;
     }
   }
-  std::sort(all.begin(), all.end());
-  std::vector<Face> boundary;
-  for (std::size_t k = 0; k < all.size();) {
-    std::size_t end = k + 1;
-    while (end < all.size() && all[end].first == all[k].first) ++end;
-    if (end - k == 1) boundary.push_back(all[k].second);
-    k = end;
-  }
-  return boundary;
-}
-
-std::vector<double> load_weights(const Mesh& mesh, const std::vector<Face>& faces,
-                                 const LoadRegion& region, const std::string& key) {
-  std::vector<double> weight(mesh.num_vertices(), 0.0);
-  double total_area = 0;
-  for (const Face& f : faces) {
-    const double* p[3];
-    bool inside = true;
-    for (int k = 0; k < 3; ++k) {
-      p[k] = &mesh.positions[3 * static_cast<std::size_t>(f[k])];
-      inside = inside && region.contains(p[k]);
-    }
-    if (!inside) continue;
-    const double u[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
-    const double v[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-    const double c[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                         u[0] * v[1] - u[1] * v[0]};
-    const double area = 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    for (int k = 0; k < 3; ++k) weight[f[k]] += area / 3.0;
-    total_area += area;
-  }
-  if (total_area <= 0) {
-    throw InputError(detail::concat(key, ": no boundary face of the mesh lies in [",
-                                    region.box_min[0], ", ", region.box_min[1], ", ",
-                                    region.box_min[2], "] - [", region.box_max[0], ", ",
-                                    region.box_max[1], ", ", region.box_max[2], "]"));
-  }
-  for (double& w : weight) w /= total_area;
-  return weight;
+  return share;
 }
 
 std::array<double, 3> load_force(const LoadRegion& region, double t) {

@@ -5,20 +5,17 @@
 
 #include "common/mesh.hpp"
 #include "io/scene.hpp"
+#include "partition/local_mesh.hpp"
 
 namespace descent {
 
-using Face = std::array<index_t, 3>;
-
-// Faces used by exactly one tet of the whole mesh (its boundary surface).
-std::vector<Face> boundary_faces(const Mesh& mesh);
-
-// Share of a load region's total force per global vertex: the boundary faces
-// with all three vertices in the region, weighted by area, each face giving
-// a third of its share to each of its vertices. Sums to 1. Throws InputError
-// naming `key` (e.g. "load.0") when the region holds no boundary face.
-std::vector<double> load_weights(const Mesh& mesh, const std::vector<Face>& faces,
-                                 const LoadRegion& region, const std::string& key);
+// One rank's part of a load region's weights: per local vertex, a third of
+// the area of each surface face (LocalMesh::surface_faces) of this rank's
+// tets whose three vertices lie in the region; the area they sum to goes to
+// *area. Every surface face belongs to one tet, so to one rank: the totals
+// over ranks (shared vertices summed through the halo) give each vertex its
+// share of the region's force once divided by the region's whole area.
+std::vector<double> local_load_areas(const LocalMesh& mesh, const LoadRegion& region, double* area);
 
 // The region's total force at time t (ramped linearly over `ramp` seconds).
 std::array<double, 3> load_force(const LoadRegion& region, double t);

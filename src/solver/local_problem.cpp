@@ -29,8 +29,7 @@ std::uint8_t axes_mask(const std::string& axes) {
 
 template <class Real>
 LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo<Real>& halo,
-                                 EnergyReduction& reduction,
-                                 const std::vector<std::vector<double>>& load_weights)
+                                 EnergyReduction& reduction)
     : mesh_(mesh),
       halo_(halo),
       reduction_(reduction),
@@ -100,10 +99,25 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
     }
   }
 
+  // Each load region's share of its force per vertex: the area of the
+  // surface faces around the vertex over the region's whole area.
   load_weights_.resize(load_regions_.size());
+  std::vector<double> region_area(load_regions_.size());
   for (std::size_t r = 0; r < load_regions_.size(); ++r) {
-    load_weights_[r].resize(nv);
-    for (index_t v = 0; v < nv; ++v) load_weights_[r][v] = load_weights[r][mesh.global_vertex[v]];
+    const std::vector<double> share = local_load_areas(mesh, load_regions_[r], &region_area[r]);
+    std::vector<Real> summed(share.begin(), share.end());
+    halo_.sum(summed.data(), 1);
+    load_weights_[r].assign(summed.begin(), summed.end());
+  }
+  reduction_.sum_in_place(region_area);
+  for (std::size_t r = 0; r < load_regions_.size(); ++r) {
+    const LoadRegion& region = load_regions_[r];
+    if (!(region_area[r] > 0))
+      throw InputError(detail::concat("load.", r, ": no boundary face of the mesh lies in [",
+                                      region.box_min[0], ", ", region.box_min[1], ", ",
+                                      region.box_min[2], "] - [", region.box_max[0], ", ",
+                                      region.box_max[1], ", ", region.box_max[2], "]"));
+    for (double& w : load_weights_[r]) w /= region_area[r];
   }
   external_force_.assign(3 * static_cast<std::size_t>(nv), Real(0));
 

@@ -15,7 +15,7 @@
 #include "kernels/conversion.hpp"
 #include "kernels/tet.hpp"
 #include "kernels/vertex.hpp"
-#include "partition/partition.hpp"
+#include "partition/local_mesh.hpp"
 #include "solver/material.hpp"
 #include "solver/stepper.hpp"
 
@@ -24,10 +24,11 @@ namespace descent {
 template <class Real>
 class LocalProblem {
  public:
-  // `load_weights` holds, per [[load]] region, its share of the force per
-  // global vertex (solver/loads.hpp).
+  // Collective (masses and load weights are completed through the halo and
+  // the reduction). A [[load]] region that holds no surface face of the
+  // whole mesh is an InputError naming it, on every rank.
   LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo<Real>& halo,
-               EnergyReduction& reduction, const std::vector<std::vector<double>>& load_weights);
+               EnergyReduction& reduction);
 
   index_t num_vertices() const { return mesh_.num_vertices(); }
   const LocalMesh& mesh() const { return mesh_; }

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "io/scene.hpp"
-#include "partition/partition.hpp"
+#include "partition/local_mesh.hpp"
 
 namespace descent {
 

@@ -14,20 +14,21 @@ namespace descent::testing {
 // owned vertices of every rank; empty on other ranks.
 template <class Real>
 std::vector<double> gather_positions(MPI_Comm comm, const Simulation<Real>& sim,
-                                     index_t num_global_vertices) {
+                                     global_index_t num_global_vertices) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const LocalMesh& local = sim.local_mesh();
   const int owned = local.num_owned;
-  std::vector<int> ids(local.global_vertex.begin(), local.global_vertex.begin() + owned);
+  const std::vector<global_index_t> ids(local.global_vertex.begin(),
+                                        local.global_vertex.begin() + owned);
   const std::vector<double> xyz = sim.owned_positions();
   std::vector<int> counts(size), offsets(size + 1, 0);
   MPI_Gather(&owned, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
   for (int r = 0; r < size; ++r) offsets[r + 1] = offsets[r] + counts[r];
-  std::vector<int> all_ids(rank == 0 ? offsets[size] : 0);
-  MPI_Gatherv(ids.data(), owned, MPI_INT, all_ids.data(), counts.data(), offsets.data(), MPI_INT, 0,
-              comm);
+  std::vector<global_index_t> all_ids(rank == 0 ? offsets[size] : 0);
+  MPI_Gatherv(ids.data(), owned, MPI_INT64_T, all_ids.data(), counts.data(), offsets.data(),
+              MPI_INT64_T, 0, comm);
   std::vector<int> counts3(size), offsets3(size);
   for (int r = 0; r < size; ++r) {
     counts3[r] = 3 * counts[r];

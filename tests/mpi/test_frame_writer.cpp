@@ -94,10 +94,10 @@ void expect_all_ranks_passed() {
 
 // The rows one rank writes, in descending id order to exercise the sorting.
 struct OwnedPart {
-  std::vector<index_t> vertex_ids;
+  std::vector<global_index_t> vertex_ids;
   std::vector<double> rest_positions;
-  std::vector<index_t> tet_ids;
-  std::vector<index_t> tet_vertices;
+  std::vector<global_index_t> tet_ids;
+  std::vector<global_index_t> tet_vertices;
 
   FrameWriterLayout layout() const {
     return {kNumVertices, kNumTets, vertex_ids, tet_ids, tet_vertices, rest_positions};

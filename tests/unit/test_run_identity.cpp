@@ -20,8 +20,8 @@ box_max = [1.0, 0.1, 1.0]
 }
 
 std::string identity_of(const std::vector<std::string>& overrides, std::uint64_t digest = 7,
-                        const std::string& precision = "double") {
-  return run_identity(scene_with(overrides), digest, precision);
+                        const std::string& precision = "double", std::uint64_t partition = 3) {
+  return run_identity(scene_with(overrides), {digest, partition}, precision);
 }
 
 TEST(RunIdentity, TheSameRunAgrees) {
@@ -45,6 +45,26 @@ TEST(RunIdentity, NamesTheMeshWhenOnlyItsContentDiffers) {
   const std::string differs = identity_difference(identity_of({}, 7), identity_of({}, 8));
   EXPECT_EQ(differs.rfind("the mesh differs (mesh.digest", 0), 0u) << differs;
   EXPECT_NE(differs.find("is 8 now but was 7"), std::string::npos) << differs;
+}
+
+TEST(RunIdentity, NamesThePartitionWhenOnlyItDiffers) {
+  const std::string differs =
+      identity_difference(identity_of({}, 7, "double", 3), identity_of({}, 7, "double", 4));
+  EXPECT_EQ(differs.rfind("the partition differs (partition.digest", 0), 0u) << differs;
+  EXPECT_NE(differs.find("is 4 now but was 3"), std::string::npos) << differs;
+  // partition.method is a scene key like any other.
+  EXPECT_EQ(identity_difference(identity_of({}), identity_of({"partition.method=\"metis\""}))
+                .rfind("partition.method is \"metis\" now but was \"auto\"", 0),
+            0u);
+}
+
+TEST(RunIdentity, RefusesARunFromBeforePartitionDigests) {
+  std::string before = identity_of({});
+  before.erase(before.find("partition.digest"));  // the last lines: partition, precision
+  before += "precision = \"double\"\n";
+  EXPECT_EQ(identity_difference(before, identity_of({}))
+                .rfind("the checkpoint's run predates partition digests", 0),
+            0u);
 }
 
 TEST(RunIdentity, NamesThePrecision) {

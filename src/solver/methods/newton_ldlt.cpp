@@ -22,6 +22,14 @@ template <class Real>
 NewtonLdlt<Real>::NewtonLdlt(LocalProblem<Real>& problem, const HessianOperator<Real>& hessian)
     : problem_(problem), hessian_(hessian), root_(problem.mesh().rank == 0) {
   const LocalMesh& mesh = problem.mesh();
+  // The whole structure travels to rank 0 in 32-bit ids: a direct solve of
+  // a mesh that needs more is far beyond one rank anyway.
+  if (mesh.num_global_vertices > INT_MAX / 3)
+    throw InputError(
+        detail::concat("solver.newton_solver = \"ldlt\" factors the whole mesh on rank "
+                       "0 and takes at most ",
+                       INT_MAX / 3, " vertices, not ", mesh.num_global_vertices,
+                       ": use newton_solver = \"petsc\""));
   const index_t nt = mesh.num_tets(), no = mesh.num_owned, nv = mesh.num_vertices();
   EnergyReduction& reduction = problem.reduction();
 
@@ -30,8 +38,9 @@ NewtonLdlt<Real>::NewtonLdlt(LocalProblem<Real>& problem, const HessianOperator<
   // (4 nt)]. Owned vertices are the first no local ones (LocalMesh order).
   std::vector<index_t> structure = {nt, no, nv};
   for (index_t v = 0; v < no; ++v) structure.push_back(problem.fixed_axes()[v]);
-  for (index_t v = 0; v < nv; ++v) structure.push_back(mesh.global_vertex[v]);
-  for (index_t k = 0; k < 4 * nt; ++k) structure.push_back(mesh.global_vertex[mesh.tets[k]]);
+  for (index_t v = 0; v < nv; ++v) structure.push_back(static_cast<index_t>(mesh.global_vertex[v]));
+  for (index_t k = 0; k < 4 * nt; ++k)
+    structure.push_back(static_cast<index_t>(mesh.global_vertex[mesh.tets[k]]));
   const int structure_size = checked_count(structure.size(), "the mesh structure");
   const std::vector<int> structure_counts = reduction.gather_counts(structure_size);
   std::vector<index_t> all;

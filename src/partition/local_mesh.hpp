@@ -1,20 +1,5 @@
 #pragma once
-// Splitting a mesh across ranks: METIS_PartMeshDual on the tets (neighbours
-// share a face: ncommon = 3), then each rank's local piece.
-#include <span>
-#include <string>
-#include <utility>
-#include <vector>
-
-#include "common/mesh.hpp"
-
-namespace descent {
-
-// Part (rank) of every tet, in [0, nparts). nparts == 1 needs no METIS.
-// METIS failures throw MetisError naming the return code.
-std::vector<int> partition_tets(const Mesh& mesh, int nparts);
-
-// One rank's piece of the mesh.
+// One rank's piece of the mesh, with everything its halo needs.
 //
 // Local vertex order: [interior | shared owned | shared not owned], where
 // shared means used by tets of more than one rank and the owner of a vertex
@@ -24,18 +9,30 @@ std::vector<int> partition_tets(const Mesh& mesh, int nparts);
 // Local tet order: boundary tets (touching a shared vertex) first, then
 // interior tets, each group by ascending global id, so the boundary can be
 // computed first and its exchange overlapped with the interior.
+#include <cstdint>
+#include <vector>
+
+#include "common/mesh.hpp"
+
+namespace descent {
+
 struct LocalMesh {
   int rank = 0;
   int num_ranks = 1;
+  global_index_t num_global_vertices = 0;  // of the whole mesh, unused vertices included
+  global_index_t num_global_tets = 0;
 
-  std::vector<index_t> global_vertex;  // local -> global vertex id
+  std::vector<global_index_t> global_vertex;  // local -> global vertex id
   index_t num_interior = 0;
   index_t num_owned = 0;
   std::vector<double> rest_positions;  // xyz per local vertex
 
-  std::vector<index_t> tets;  // 4 local vertex ids per local tet
-  std::vector<index_t> global_tet;
+  std::vector<index_t> tets;  // 4 local vertex ids per local tet, positively oriented
+  std::vector<global_index_t> global_tet;
   index_t num_boundary_tets = 0;
+  // Per local tet, bit f set: face f (kTetFaces[f], opposite corner f) lies
+  // on the body's surface (no other tet of the whole mesh has it).
+  std::vector<std::uint8_t> surface_faces;
 
   // Neighbour ranks (ascending) and, per neighbour, the local ids of the
   // vertices shared with it in ascending global id (the same order on both
@@ -52,23 +49,5 @@ struct LocalMesh {
   index_t num_tets() const { return static_cast<index_t>(global_tet.size()); }
   index_t num_shared() const { return num_vertices() - num_interior; }
 };
-
-// Distinct (vertex, rank) pairs of a partition, sorted: the ranks that use
-// each vertex, ascending.
-std::vector<std::pair<index_t, int>> vertex_users(const Mesh& mesh, std::span<const int> tet_part);
-
-LocalMesh build_local_mesh(const Mesh& mesh, std::span<const int> tet_part, int rank,
-                           int num_ranks);
-
-// How good a partition is, for the log.
-struct PartitionQuality {
-  std::vector<index_t> tets_per_rank;
-  std::vector<index_t> shared_vertices_per_rank;
-  index_t cut_faces = 0;   // interior faces whose two tets lie on different ranks
-  double imbalance = 1.0;  // max tets per rank / mean
-};
-
-PartitionQuality partition_quality(const Mesh& mesh, std::span<const int> tet_part, int nparts);
-std::string describe(const PartitionQuality& quality);
 
 }  // namespace descent

@@ -1,0 +1,52 @@
+#include "app/mesh_setup.hpp"
+
+#include <chrono>
+
+#include "app/agree.hpp"
+#include "app/console.hpp"
+#include "app/scene_mesh.hpp"
+
+namespace descent {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+DistributedMesh set_up_mesh(MPI_Comm comm, const Scene& scene, const MeshSetupOptions& options) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const auto start = std::chrono::steady_clock::now();
+  MeshReadReport report;
+  MeshSlice slice = agree(comm, [&] { return build_scene_mesh_slice(comm, scene.mesh, &report); });
+  if (rank == 0)
+    for (const std::string& w : report.warnings) warn("%s", w.c_str());
+  const double read_seconds = seconds_since(start);
+  DistributedMesh mesh =
+      agree(comm, [&] { return distribute_mesh(comm, std::move(slice), scene.partition.method); });
+  const double partition_seconds = seconds_since(start) - read_seconds;
+  const LocalMesh& local = mesh.local;
+  if (rank == 0 && mesh.reoriented_tets > 0)
+    warn("%s: re-oriented %lld of %lld tets that were negatively oriented", mesh.source.c_str(),
+         static_cast<long long>(mesh.reoriented_tets),
+         static_cast<long long>(local.num_global_tets));
+  if (rank == 0 && mesh.unused_vertices > 0)
+    warn("%s: %lld of %lld vertices belong to no tet (kept, written at rest)", mesh.source.c_str(),
+         static_cast<long long>(mesh.unused_vertices),
+         static_cast<long long>(local.num_global_vertices));
+  if (options.talk) {
+    inform("%s: %lld vertices, %lld tets", mesh.source.c_str(),
+           static_cast<long long>(local.num_global_vertices),
+           static_cast<long long>(local.num_global_tets));
+    if (size > 1)
+      inform("partition (%s): %s", to_string(mesh.method), describe(mesh.quality).c_str());
+    inform("mesh set-up %.2f s: slices %.2f s, partition and distribution %.2f s",
+           read_seconds + partition_seconds, read_seconds, partition_seconds);
+  }
+  return mesh;
+}
+
+}  // namespace descent

@@ -1,0 +1,51 @@
+#include "partition/graph_partition.hpp"
+
+#include <algorithm>
+
+#include "comm/mpi_check.hpp"
+#include "common/error.hpp"
+
+namespace descent {
+
+PartitionMethod choose_partition_method(const std::string& name, global_index_t num_tets) {
+  if (name == "metis") return PartitionMethod::metis;
+  if (name == "ptscotch") {
+    if (!have_ptscotch())
+      throw InputError(
+          "partition.method = \"ptscotch\": this descent was built without PT-Scotch (Debian: "
+          "libptscotch-dev); \"metis\" partitions on rank 0");
+    return PartitionMethod::ptscotch;
+  }
+  if (name == "auto")
+    return num_tets >= kSerialPartitionLimit && have_ptscotch() ? PartitionMethod::ptscotch
+                                                                : PartitionMethod::metis;
+  throw InputError("partition.method '" + name + "' is not one of: auto, metis, ptscotch");
+}
+
+const char* to_string(PartitionMethod method) {
+  return method == PartitionMethod::metis ? "METIS" : "PT-Scotch";
+}
+
+std::vector<int> partition_dual_graph(MPI_Comm comm, const DualGraph& graph, int nparts,
+                                      PartitionMethod method) {
+  DESCENT_VERIFY(nparts >= 1, "nparts = ", nparts);
+  if (graph.num_global_tets < nparts)
+    throw PartitionError(detail::concat("cannot split ", graph.num_global_tets, " tets into ",
+                                        nparts, " parts: fewer tets than parts"));
+  if (nparts == 1) return std::vector<int>(graph.num_tets(), 0);
+  std::vector<int> part = method == PartitionMethod::metis
+                              ? partition_with_metis(comm, graph, nparts)
+                              : partition_with_ptscotch(comm, graph, nparts);
+  // Partitioners may leave a part empty on tiny meshes; every rank needs work.
+  std::vector<global_index_t> count(nparts, 0);
+  for (int p : part) ++count[p];
+  DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, count.data(), nparts, MPI_INT64_T, MPI_SUM, comm));
+  const auto empty = std::find(count.begin(), count.end(), 0);
+  if (empty != count.end())
+    throw PartitionError(detail::concat(to_string(method), " left part ", empty - count.begin(),
+                                        " without tets (", graph.num_global_tets, " tets, ", nparts,
+                                        " parts): use fewer ranks"));
+  return part;
+}
+
+}  // namespace descent

@@ -1,0 +1,45 @@
+#pragma once
+// Partitioning the dual graph: a part for every tet, so that parts hold
+// about equal numbers of tets and few faces lie between parts.
+//
+// Two partitioners: PT-Scotch partitions the distributed graph in parallel
+// (no rank sees more than its slice); METIS, the quality reference, is
+// serial: the graph is gathered on rank 0 of the communicator, partitioned
+// there and the parts scattered back. "auto" takes METIS for meshes below
+// kSerialPartitionLimit tets, where rank 0's share of the work and memory is
+// small, and PT-Scotch above (METIS where descent was built without it).
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+#include "partition/dual_graph.hpp"
+
+namespace descent {
+
+enum class PartitionMethod { metis, ptscotch };
+
+// The gathered graph at this size takes rank 0 about 10 MB and METIS well
+// under a second; beyond it rank 0's memory and time stand out.
+inline constexpr global_index_t kSerialPartitionLimit = 500'000;
+
+// Whether this descent was built with PT-Scotch (Debian: libptscotch-dev).
+bool have_ptscotch();
+
+// "auto", "metis" or "ptscotch" (scene key partition.method); "ptscotch" in
+// a build without it is an InputError naming the package.
+PartitionMethod choose_partition_method(const std::string& name, global_index_t num_tets);
+const char* to_string(PartitionMethod method);
+
+// Collective: the part in [0, nparts) of each tet of this rank's slice of
+// the graph, the same on every run for the same mesh, rank count and
+// nparts. Every part gets at least one tet, or a PartitionError says which
+// did not.
+std::vector<int> partition_dual_graph(MPI_Comm comm, const DualGraph& graph, int nparts,
+                                      PartitionMethod method);
+
+// The two partitioners behind it, for nparts >= 2.
+std::vector<int> partition_with_metis(MPI_Comm comm, const DualGraph& graph, int nparts);
+std::vector<int> partition_with_ptscotch(MPI_Comm comm, const DualGraph& graph, int nparts);
+
+}  // namespace descent
