@@ -18,7 +18,8 @@ inline void require_blocks_fit_index(const std::string& culprit, global_index_t 
   if ((largest + num_ranks - 1) / num_ranks > std::numeric_limits<index_t>::max())
     throw InputError(detail::concat(culprit, " gives ", num_tets, " tets and ", num_vertices,
                                     " vertices: more per rank than a 32-bit index holds on ",
-                                    num_ranks, " ranks; run on more ranks"));
+                                    num_ranks, num_ranks == 1 ? " rank" : " ranks",
+                                    "; run on more ranks"));
 }
 
 }  // namespace descent
