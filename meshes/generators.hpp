@@ -1,10 +1,15 @@
 #pragma once
 // Procedural meshes: the paper's double helix and a box. Both are exact
 // functions of their parameters (same parameters, same mesh, bit for bit).
+// Each comes whole (make_*) or as one rank's MeshSlice (make_*_slice), which
+// no rank builds the whole mesh for.
+#include <mpi.h>
+
 #include <array>
 #include <string>
 
 #include "common/mesh.hpp"
+#include "common/mesh_slice.hpp"
 
 namespace descent {
 
@@ -33,6 +38,14 @@ double double_helix_preset_resolution(const std::string& name);
 
 Mesh make_double_helix(const DoubleHelixParams& params);
 
+// Rank r of P's block of the same mesh: exactly
+// slice_of(make_double_helix(params), r, P), while each rank voxelizes and
+// stores about 1/P of the grid and a few layers of cells. Collective over
+// comm. Throws the serial generator's InputError on every rank, except that
+// global ids are 64-bit (no 32-bit limit on the whole mesh, only on one
+// rank's block).
+MeshSlice make_double_helix_slice(MPI_Comm comm, const DoubleHelixParams& params);
+
 // turns * pitch + 4 * tube_radius: the helical part plus both caps.
 double double_helix_height(const DoubleHelixParams& params);
 
@@ -46,5 +59,10 @@ struct BoxParams {
 };
 
 Mesh make_box(const BoxParams& params);
+
+// Rank r of P's block of the same mesh, exactly slice_of(make_box(params), r,
+// P), from closed forms. Collective over comm; throws as make_box on every
+// rank, with the 32-bit limit on one rank's block instead of the whole box.
+MeshSlice make_box_slice(MPI_Comm comm, const BoxParams& params);
 
 }  // namespace descent
