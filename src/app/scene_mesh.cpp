@@ -32,11 +32,19 @@ Mesh build_scene_mesh(const MeshSpec& spec, MeshReadReport* report) {
 }
 
 MeshSlice build_scene_mesh_slice(MPI_Comm comm, const MeshSpec& spec, MeshReadReport* report) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  // Until the slice readers and generators land: the whole mesh, sliced.
-  MeshSlice slice = slice_of(build_scene_mesh(spec, report), rank, size);
+  MeshSlice slice;
+  if (!spec.file.empty()) {
+    // Until the parallel readers land: the whole mesh read on every rank, sliced.
+    int rank = 0, size = 1;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
+    slice = slice_of(read_mesh(spec.file, report), rank, size);
+  } else {
+    check_generator(spec);
+    slice = spec.generator == "double_helix" ? make_double_helix_slice(comm, spec.helix)
+                                             : make_box_slice(comm, spec.box);
+  }
+  scale(slice.positions, spec.scale);
   return slice;
 }
 
