@@ -16,12 +16,15 @@
 #include "app/agree.hpp"
 #include "app/console.hpp"
 #include "app/default_scene.hpp"
+#include "app/partition_command.hpp"
 #include "app/run_command.hpp"
 #include "app/scene_mesh.hpp"
 #include "app/study_command.hpp"
 #include "app/tune_command.hpp"
 #include "common/closest_name.hpp"
+#include "io/mesh_h5.hpp"
 #include "io/mesh_io.hpp"
+#include "io/mesh_io_detail.hpp"
 #include "io/scene.hpp"
 #include "solver/petsc/petsc_session.hpp"
 
@@ -35,6 +38,31 @@ Scene read_scene(const std::string& path, const std::vector<std::string>& overri
 }
 
 constexpr int kUsageExitCode = 2;
+
+// `descent mesh`: .h5 files are written by every rank, each its slice (so a
+// mesh too large for one rank is generated and written in parallel); the
+// ASCII formats by rank 0 from the whole mesh.
+int write_scene_mesh(MPI_Comm comm, const Scene& scene, const std::string& path) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  global_index_t counts[2] = {0, 0};
+  const std::string extension = mesh_io_detail::lowercase_extension(path);
+  if (extension == ".h5" || extension == ".hdf5") {
+    const MeshSlice slice = build_scene_mesh_slice(comm, scene.mesh);
+    write_mesh_h5(comm, slice, path);
+    counts[0] = slice.num_global_vertices;
+    counts[1] = slice.num_global_tets;
+  } else if (rank == 0) {
+    const Mesh m = build_scene_mesh(scene.mesh);
+    write_mesh(m, path);
+    counts[0] = m.num_vertices();
+    counts[1] = m.num_tets();
+  }
+  if (rank == 0)
+    inform("wrote %s (%lld vertices, %lld tets)", path.c_str(), static_cast<long long>(counts[0]),
+           static_cast<long long>(counts[1]));
+  return 0;
+}
 
 // A count of at least 1, refused in words ("--threads 0" would otherwise
 // print CLI11's range up to the largest double).
@@ -120,6 +148,10 @@ int main_with_mpi(int argc, char** argv) {
       ->check(kAtLeastOne);
   run->add_option("--petsc-options", petsc_options,
                   "Options for the PETSc solvers, e.g. \"-ksp_monitor -pc_type hypre\"");
+  std::string partition_file;
+  run->add_option("--partition", partition_file,
+                  "This rank's piece of a partition file made by descent partition (as many "
+                  "parts as ranks); the file's mesh replaces the scene's");
 
   TuneOptions tune_options;
   CLI::App* tune = add_tune_subcommand(app, tune_options);
@@ -136,13 +168,19 @@ int main_with_mpi(int argc, char** argv) {
   study->add_option("--petsc-options", petsc_options,
                     "Options for the PETSc solvers, e.g. \"-ksp_monitor -log_view\"");
 
+  PartitionOptions partition_options;
+  CLI::App* partition = add_partition_subcommand(app, partition_options);
+  partition->add_option("scene", scene_path, "Scene file (TOML); none: the built-in double helix");
+  partition->add_option("--set", overrides, "Override a scene key")->type_name("KEY=VALUE");
+
   CLI::App* mesh = app.add_subcommand("mesh", "Write the mesh of a scene to a file");
   mesh->add_option("scene", scene_path, "Scene file (TOML); none: the built-in double helix");
   mesh->add_option("--set", overrides,
                    "Override a scene key, e.g. --set mesh.helix.preset=\"316k\"")
       ->type_name("KEY=VALUE");
   mesh->add_option("-o,--output", mesh_out,
-                   "Output file: .mesh (MEDIT), .msh (Gmsh 2.2), .node (TetGen)")
+                   "Output file: .h5 (written by all ranks), .mesh (MEDIT), .msh (Gmsh 2.2), "
+                   ".node (TetGen)")
       ->required();
 
   if (const std::string unknown = unknown_subcommand(app, argc, argv); !unknown.empty()) {
@@ -169,6 +207,9 @@ int main_with_mpi(int argc, char** argv) {
   try {
     Scene scene = agree(MPI_COMM_WORLD, [&] { return read_scene(scene_path, overrides); });
     if (!out_dir.empty()) scene.output.dir = out_dir;
+    if (*partition)
+      return agree(MPI_COMM_WORLD,
+                   [&] { return run_partition(MPI_COMM_WORLD, scene, partition_options); });
     if (*tune)
       return agree(MPI_COMM_WORLD, [&] { return run_tune(MPI_COMM_WORLD, scene, tune_options); });
     if (*study) {
@@ -188,16 +229,10 @@ int main_with_mpi(int argc, char** argv) {
       options.precision = precision;
       options.backend = backend;
       options.backend.graphs = !no_graphs;
+      options.partition_file = partition_file;
       return agree(MPI_COMM_WORLD, [&] { return run_scene(MPI_COMM_WORLD, scene, options); });
     }
-    agree(MPI_COMM_WORLD, [&] {
-      if (rank != 0) return 0;
-      const Mesh m = build_scene_mesh(scene.mesh);
-      write_mesh(m, mesh_out);
-      inform("wrote %s (%d vertices, %d tets)", mesh_out.c_str(), m.num_vertices(), m.num_tets());
-      return 0;
-    });
-    return 0;
+    return agree(MPI_COMM_WORLD, [&] { return write_scene_mesh(MPI_COMM_WORLD, scene, mesh_out); });
   } catch (const ReportedFailure&) {
     return 1;
   }

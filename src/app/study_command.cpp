@@ -10,7 +10,7 @@
 #include <type_traits>
 
 #include "app/console.hpp"
-#include "app/scene_mesh.hpp"
+#include "app/mesh_setup.hpp"
 #include "app/simulation.hpp"
 #include "app/study_trace.hpp"
 #include "common/error.hpp"
@@ -89,7 +89,7 @@ void write_pareto(const std::string& path, const std::vector<CaseResult>& result
 // Warmup, then per measured frame Newton's eps* and every case, appended to
 // study.csv and pareto.csv (rank 0).
 template <class Real>
-void run_cases(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
+void run_cases(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
                const std::vector<SolverSpec>& specs, const SolverSpec& truth,
                const StudyOptions& options) {
   int rank = 0, ranks = 1;
@@ -112,8 +112,9 @@ void run_cases(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
         << "ranks,frame,case,method,k,energy,rel_error,ms,collectives,reduce_ms,cpu_ms,kinetic\n";
     std::ofstream(pareto) << "ranks,frame,level,case,k,ms\n";
     if (!options.quiet)
-      inform("study: %d tets, %d ranks, %zu cases, %d measured frame(s), %s", mesh.num_tets(),
-             ranks, options.cases.size(), options.frames, options.precision.c_str());
+      inform("study: %lld tets, %d ranks, %zu cases, %d measured frame(s), %s",
+             static_cast<long long>(mesh.local.num_global_tets), ranks, options.cases.size(),
+             options.frames, options.precision.c_str());
   }
   for (int m = 0; m < options.frames; ++m) {
     if (m > 0)
@@ -258,7 +259,7 @@ int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::st
   else if (petsc_compiled() && truth.newton_solver == "cg")
     truth.newton_solver = "petsc";
 
-  const Mesh mesh = build_scene_mesh(scene.mesh);
+  const DistributedMesh mesh = set_up_mesh(comm, scene, {});
   if (options.precision == "float")
     run_cases<float>(comm, scene, mesh, specs, truth, options);
   else

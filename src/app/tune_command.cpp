@@ -9,7 +9,7 @@
 #include <memory>
 #include <sstream>
 
-#include "app/scene_mesh.hpp"
+#include "app/mesh_setup.hpp"
 #include "app/simulation.hpp"
 
 namespace descent {
@@ -113,8 +113,7 @@ CLI::App* add_tune_subcommand(CLI::App& app, TuneOptions& options) {
 int run_tune(MPI_Comm comm, const Scene& scene, const TuneOptions& options) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const Mesh mesh = build_scene_mesh(scene.mesh);
-  Simulation<double> sim(comm, scene, mesh);
+  Simulation<double> sim(comm, scene, set_up_mesh(comm, scene, {}));
   for (int f = 0; f < options.warmup; ++f) sim.step();
   std::vector<BodyState<double>> states;
   std::vector<StepMemory> memories;

@@ -1,6 +1,7 @@
 #include "partition/distribute.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <limits>
 
 #include "comm/collective_error.hpp"
@@ -12,6 +13,20 @@
 
 namespace descent {
 namespace {
+
+// Seconds since the last lap.
+class Stopwatch {
+ public:
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return seconds;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
 
 int comm_size(MPI_Comm comm) {
   int size = 1;
@@ -118,7 +133,7 @@ std::vector<PartTets> migrate_tets(MPI_Comm comm, const MeshSlice& slice,
   return parts;
 }
 
-std::vector<PartVertices> gather_part_vertices(MPI_Comm comm, const std::vector<PartTets>& parts,
+std::vector<PartVertices> gather_part_vertices(MPI_Comm comm, std::span<const PartTets> parts,
                                                global_index_t num_global_vertices,
                                                global_index_t first_vertex,
                                                std::span<const double> block_positions,
@@ -205,6 +220,29 @@ std::vector<PartVertices> gather_part_vertices(MPI_Comm comm, const std::vector<
   return vertices;
 }
 
+void assemble_local_mesh(MPI_Comm comm, const PartTets& tets, global_index_t num_vertices,
+                         global_index_t num_tets, global_index_t first_vertex,
+                         std::span<const double> block_positions, DistributedMesh& mesh) {
+  Stopwatch clock;
+  const std::vector<PartVertices> vertices = gather_part_vertices(
+      comm, std::span(&tets, 1), num_vertices, first_vertex, block_positions, &mesh.unused);
+  mesh.seconds.vertices = clock.lap();
+  index_t reoriented = 0;
+  std::string error;
+  try {
+    mesh.local = build_local_mesh(tets, vertices.front(), comm_size(comm), num_vertices, num_tets,
+                                  mesh.source, &reoriented);
+  } catch (const InputError& e) {
+    error = e.what();
+  }
+  throw_if_any_failed(comm, error);
+  mesh.seconds.local_mesh = clock.lap();
+  global_index_t counts[2] = {reoriented, static_cast<global_index_t>(mesh.unused.ids.size())};
+  DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, comm));
+  mesh.reoriented_tets = counts[0];
+  mesh.unused_vertices = counts[1];
+}
+
 DistributedMesh distribute_mesh(MPI_Comm comm, MeshSlice slice, const std::string& method_name) {
   const int size = comm_size(comm);
   DistributedMesh mesh;
@@ -212,31 +250,22 @@ DistributedMesh distribute_mesh(MPI_Comm comm, MeshSlice slice, const std::strin
   mesh.method = choose_partition_method(method_name, slice.num_global_tets);
   const global_index_t num_vertices = slice.num_global_vertices, num_tets = slice.num_global_tets;
 
+  Stopwatch clock;
   DualGraph graph = build_dual_graph(comm, slice);
+  mesh.seconds.dual_graph = clock.lap();
   const std::vector<int> part = partition_dual_graph(comm, graph, size, mesh.method);
   const global_index_t cut_faces = count_cut_faces(comm, graph, part);
+  mesh.seconds.partition = clock.lap();
   const std::vector<std::uint8_t> surface_faces = std::move(graph.surface_faces);
   graph = {};
   std::vector<PartTets> tets = migrate_tets(comm, slice, surface_faces, part, size);
   slice.tets = {};
-  std::vector<PartVertices> vertices = gather_part_vertices(
-      comm, tets, num_vertices, slice.first_vertex, slice.positions, &mesh.unused);
+  mesh.seconds.migration = clock.lap();
+  assemble_local_mesh(comm, tets.front(), num_vertices, num_tets, slice.first_vertex,
+                      slice.positions, mesh);
   slice.positions = {};
-
-  index_t reoriented = 0;
-  std::string error;
-  try {
-    mesh.local = build_local_mesh(tets.front(), vertices.front(), size, num_vertices, num_tets,
-                                  mesh.source, &reoriented);
-  } catch (const InputError& e) {
-    error = e.what();
-  }
-  throw_if_any_failed(comm, error);
+  tets = {};
   mesh.quality = partition_quality(comm, std::span(&mesh.local, 1), size, cut_faces);
-  global_index_t counts[2] = {reoriented, static_cast<global_index_t>(mesh.unused.ids.size())};
-  DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, comm));
-  mesh.reoriented_tets = counts[0];
-  mesh.unused_vertices = counts[1];
   return mesh;
 }
 

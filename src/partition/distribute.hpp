@@ -65,7 +65,7 @@ std::vector<PartTets> migrate_tets(MPI_Comm comm, const MeshSlice& slice,
 // ranks holding the vertex blocks. `block_positions` is this rank's block
 // (BlockRange(num_global_vertices, ranks)) of vertex positions; the block's
 // vertices that no part asked for go to `unused`.
-std::vector<PartVertices> gather_part_vertices(MPI_Comm comm, const std::vector<PartTets>& parts,
+std::vector<PartVertices> gather_part_vertices(MPI_Comm comm, std::span<const PartTets> parts,
                                                global_index_t num_global_vertices,
                                                global_index_t first_vertex,
                                                std::span<const double> block_positions,
@@ -79,6 +79,12 @@ LocalMesh build_local_mesh(const PartTets& tets, const PartVertices& vertices, i
                            global_index_t num_global_vertices, global_index_t num_global_tets,
                            const std::string& source, index_t* reoriented);
 
+// Wall seconds of each set-up phase on this rank, for the log and the
+// benchmarks.
+struct SetupSeconds {
+  double dual_graph = 0, partition = 0, migration = 0, vertices = 0, local_mesh = 0;
+};
+
 // Everything a rank of a run needs of the mesh.
 struct DistributedMesh {
   LocalMesh local;
@@ -88,7 +94,17 @@ struct DistributedMesh {
   global_index_t reoriented_tets = 0;  // over all ranks
   global_index_t unused_vertices = 0;  // over all ranks
   std::string source;
+  SetupSeconds seconds;
 };
+
+// Collective, one part per rank: the part's vertices asked from the ranks
+// holding the vertex blocks (this rank's is `block_positions`, from
+// `first_vertex`), its LocalMesh built and validated (an InputError on any
+// rank ends every rank), and the counts of re-oriented tets and unused
+// vertices summed; fills those members of `mesh`.
+void assemble_local_mesh(MPI_Comm comm, const PartTets& tets, global_index_t num_vertices,
+                         global_index_t num_tets, global_index_t first_vertex,
+                         std::span<const double> block_positions, DistributedMesh& mesh);
 
 // Collective: the whole set-up from slices, one part per rank of comm.
 // method_name: "auto", "metis" or "ptscotch" (choose_partition_method).

@@ -5,41 +5,16 @@
 #include <mpi.h>
 
 #include <cmath>
-#include <cstring>
 
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
 #include "gather_positions.hpp"
 #include "mesh_extent.hpp"
+#include "shared_vertices.hpp"
 #include "small_scenes.hpp"
 
 namespace descent {
 namespace {
-
-// Number of shared vertices whose positions differ in any bit from a
-// neighbour's copy (exchanged directly, by global-id order of the lists).
-int shared_mismatches(const Simulation<double>& sim) {
-  const LocalMesh& l = sim.local_mesh();
-  const auto& q = sim.state().q;
-  std::vector<std::vector<double>> mine(l.neighbours.size()), theirs(l.neighbours.size());
-  std::vector<MPI_Request> requests(2 * l.neighbours.size());
-  for (std::size_t n = 0; n < l.neighbours.size(); ++n) {
-    for (index_t v : l.shared_with[n])
-      for (int i = 0; i < 3; ++i) mine[n].push_back(q[3 * v + i]);
-    theirs[n].resize(mine[n].size());
-    MPI_Irecv(theirs[n].data(), static_cast<int>(theirs[n].size()), MPI_DOUBLE, l.neighbours[n], 9,
-              MPI_COMM_WORLD, &requests[n]);
-  }
-  for (std::size_t n = 0; n < l.neighbours.size(); ++n)
-    MPI_Isend(mine[n].data(), static_cast<int>(mine[n].size()), MPI_DOUBLE, l.neighbours[n], 9,
-              MPI_COMM_WORLD, &requests[l.neighbours.size() + n]);
-  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
-  int mismatches = 0;
-  for (std::size_t n = 0; n < l.neighbours.size(); ++n)
-    for (std::size_t k = 0; k < mine[n].size(); k += 3)
-      if (std::memcmp(&mine[n][k], &theirs[n][k], 3 * sizeof(double)) != 0) ++mismatches;
-  return mismatches;
-}
 
 TEST(RankInvariance, SmallHelixTenFramesMatchesOneRank) {
   int rank = 0, size = 1;
@@ -52,9 +27,7 @@ TEST(RankInvariance, SmallHelixTenFramesMatchesOneRank) {
   Simulation<double> distributed(MPI_COMM_WORLD, scene, mesh);
   for (int frame = 1; frame <= kFrames; ++frame) {
     distributed.step();
-    int mismatches = shared_mismatches(distributed);
-    MPI_Allreduce(MPI_IN_PLACE, &mismatches, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
-    ASSERT_EQ(mismatches, 0) << "shared vertices differ between sharers after frame " << frame;
+    ASSERT_EQ(testing::shared_mismatches(MPI_COMM_WORLD, distributed), 0) << "shared vertices differ between sharers after frame " << frame;
   }
   const std::vector<double> got =
       testing::gather_positions(MPI_COMM_WORLD, distributed, mesh.num_vertices());
