@@ -24,17 +24,33 @@ namespace descent {
 
 namespace {
 
-// Global ids of the tets this rank writes and their global vertex ids.
-struct TetOutput {
-  std::vector<index_t> ids, vertices;
+// What this rank gives the frame writer, with 64-bit global ids (LocalMesh
+// holds 32-bit ones): its owned vertices, its tets and their global vertex
+// ids, and on rank 0 the vertices no tet uses with their rest positions.
+struct FrameOutput {
+  std::vector<global_index_t> owned_vertex_ids, tet_ids, tet_vertices, unused_vertex_ids;
+  std::vector<double> owned_rest_positions, unused_rest_positions;
 };
 
-TetOutput tet_output(const LocalMesh& local) {
-  TetOutput out;
-  out.ids = local.global_tet;
-  out.vertices.resize(local.tets.size());
+FrameOutput frame_output(const Mesh& mesh, const LocalMesh& local, int rank) {
+  FrameOutput out;
+  out.owned_vertex_ids.assign(local.global_vertex.begin(),
+                              local.global_vertex.begin() + local.num_owned);
+  out.owned_rest_positions.assign(local.rest_positions.begin(),
+                                  local.rest_positions.begin() + 3 * local.num_owned);
+  out.tet_ids.assign(local.global_tet.begin(), local.global_tet.end());
+  out.tet_vertices.resize(local.tets.size());
   for (std::size_t k = 0; k < local.tets.size(); ++k)
-    out.vertices[k] = local.global_vertex[local.tets[k]];
+    out.tet_vertices[k] = local.global_vertex[local.tets[k]];
+  if (rank != 0) return out;
+  std::vector<char> used(mesh.num_vertices(), 0);
+  for (const index_t v : mesh.tets) used[v] = 1;
+  for (index_t v = 0; v < mesh.num_vertices(); ++v) {
+    if (used[v]) continue;
+    out.unused_vertex_ids.push_back(v);
+    const double* x = &mesh.positions[3 * static_cast<std::size_t>(v)];
+    out.unused_rest_positions.insert(out.unused_rest_positions.end(), x, x + 3);
+  }
   return out;
 }
 
@@ -198,16 +214,16 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
     c.identity = identity;
     return c;
   };
-  const TetOutput tets = tet_output(local);
-  const std::vector<double> rest(local.rest_positions.begin(),
-                                 local.rest_positions.begin() + 3 * local.num_owned);
+  const FrameOutput output = frame_output(mesh, local, rank);
   FrameWriterLayout layout;
   layout.num_global_vertices = mesh.num_vertices();
   layout.num_global_tets = mesh.num_tets();
-  layout.owned_vertex_ids = std::span(local.global_vertex.data(), local.num_owned);
-  layout.tet_ids = tets.ids;
-  layout.tet_vertices = tets.vertices;
-  layout.owned_rest_positions = rest;
+  layout.owned_vertex_ids = output.owned_vertex_ids;
+  layout.tet_ids = output.tet_ids;
+  layout.tet_vertices = output.tet_vertices;
+  layout.owned_rest_positions = output.owned_rest_positions;
+  layout.unused_vertex_ids = output.unused_vertex_ids;
+  layout.unused_rest_positions = output.unused_rest_positions;
   // A restart continues in place.
   int first_frame = 1;
   if (options.restart) {
