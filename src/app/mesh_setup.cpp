@@ -21,13 +21,24 @@ DistributedMesh set_up_mesh(MPI_Comm comm, const Scene& scene, const MeshSetupOp
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const auto start = std::chrono::steady_clock::now();
-  MeshReadReport report;
-  MeshSlice slice = agree(comm, [&] { return build_scene_mesh_slice(comm, scene.mesh, &report); });
-  if (rank == 0)
-    for (const std::string& w : report.warnings) warn("%s", w.c_str());
-  const double read_seconds = seconds_since(start);
-  DistributedMesh mesh =
-      agree(comm, [&] { return distribute_mesh(comm, std::move(slice), scene.partition.method); });
+  DistributedMesh mesh;
+  double read_seconds = 0;
+  if (!options.partition_file.empty()) {
+    PartitionPiece piece =
+        agree(comm, [&] { return read_partition_piece(comm, options.partition_file); });
+    read_seconds = seconds_since(start);
+    mesh = agree(comm,
+                 [&] { return distribute_piece(comm, std::move(piece), options.partition_file); });
+  } else {
+    MeshReadReport report;
+    MeshSlice slice =
+        agree(comm, [&] { return build_scene_mesh_slice(comm, scene.mesh, &report); });
+    if (rank == 0)
+      for (const std::string& w : report.warnings) warn("%s", w.c_str());
+    read_seconds = seconds_since(start);
+    mesh = agree(comm,
+                 [&] { return distribute_mesh(comm, std::move(slice), scene.partition.method); });
+  }
   const double partition_seconds = seconds_since(start) - read_seconds;
   const LocalMesh& local = mesh.local;
   if (rank == 0 && mesh.reoriented_tets > 0)

@@ -65,9 +65,8 @@ int run_partition(MPI_Comm comm, const Scene& scene, const PartitionOptions& opt
   // Each part's local mesh, for its quality and to validate it (flat tets)
   // as a run would.
   PartitionQuality quality = agree(comm, [&] {
-    const std::vector<PartVertices> vertices =
-        gather_part_vertices(comm, held, slice.num_global_vertices, slice.first_vertex,
-                             slice.positions, nullptr);
+    const std::vector<PartVertices> vertices = gather_part_vertices(
+        comm, held, slice.num_global_vertices, slice.first_vertex, slice.positions, nullptr);
     std::vector<LocalMesh> locals;
     std::string error;
     try {

@@ -1,6 +1,7 @@
 #include "app/scene_mesh.hpp"
 
 #include "common/error.hpp"
+#include "io/mesh_h5.hpp"
 #include "meshes/generators.hpp"
 
 namespace descent {
@@ -34,11 +35,7 @@ Mesh build_scene_mesh(const MeshSpec& spec, MeshReadReport* report) {
 MeshSlice build_scene_mesh_slice(MPI_Comm comm, const MeshSpec& spec, MeshReadReport* report) {
   MeshSlice slice;
   if (!spec.file.empty()) {
-    // Until the parallel readers land: the whole mesh read on every rank, sliced.
-    int rank = 0, size = 1;
-    MPI_Comm_rank(comm, &rank);
-    MPI_Comm_size(comm, &size);
-    slice = slice_of(read_mesh(spec.file, report), rank, size);
+    slice = read_mesh_slice(comm, spec.file, report);
   } else {
     check_generator(spec);
     slice = spec.generator == "double_helix" ? make_double_helix_slice(comm, spec.helix)

@@ -1,6 +1,8 @@
 // Frames written by every rank into one HDF5 file through MPI-IO, and the XDMF
-// index that rank 0 rewrites beside it after each frame. Each rank writes its
-// own rows of the shared datasets in one collective call per dataset.
+// index that rank 0 rewrites beside it after each frame. The rows each rank
+// owns are first routed to the rank whose block holds them (BlockRouting);
+// each rank then writes its block of every dataset as one hyperslab in one
+// collective call.
 #include "io/frame_writer.hpp"
 
 #include <hdf5.h>
@@ -8,15 +10,17 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <numeric>
+#include <optional>
 #include <sstream>
 #include <system_error>
-#include <type_traits>
-#include <utility>
 #include <vector>
 
+#include "common/block_range.hpp"
 #include "common/error.hpp"
+#include "io/block_routing.hpp"
+#include "io/hdf5_blocks.hpp"
 #include "io/hdf5_handle.hpp"
 #include "io/number_text.hpp"
 
@@ -54,89 +58,9 @@ std::string frame_name(int frame) {
   return name;
 }
 
-// Positions k of `ids` such that ids[order[0]] < ids[order[1]] < ...
-std::vector<std::size_t> ascending_order(std::span<const global_index_t> ids) {
-  std::vector<std::size_t> order(ids.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return ids[a] < ids[b]; });
-  return order;
-}
-
-// Row order[k] of `rows` (`cols` values per row) becomes row k of the result.
-template <class T>
-std::vector<T> permute_rows(std::span<const T> rows, std::span<const std::size_t> order, int cols) {
-  std::vector<T> permuted(rows.size());
-  for (std::size_t k = 0; k < order.size(); ++k)
-    std::copy_n(rows.begin() + order[k] * cols, cols, permuted.begin() + k * cols);
-  return permuted;
-}
-
 bool all_below(std::span<const global_index_t> ids, global_index_t end) {
   return std::all_of(ids.begin(), ids.end(),
                      [&](global_index_t id) { return id >= 0 && id < end; });
-}
-
-bool has_duplicates(std::span<const global_index_t> sorted_ids) {
-  return std::adjacent_find(sorted_ids.begin(), sorted_ids.end()) != sorted_ids.end();
-}
-
-template <class T>
-hid_t native_type() {
-  if constexpr (std::is_same_v<T, double>)
-    return H5T_NATIVE_DOUBLE;
-  else
-    return H5T_NATIVE_INT64;
-}
-
-// A [rows, cols] dataset in the default contiguous layout.
-Hid create_dataset(hid_t parent, const char* name, hid_t file_type, hsize_t rows, hsize_t cols,
-                   const std::string& where) {
-  const hsize_t dims[2] = {rows, cols};
-  Hid space = owned(H5Screate_simple(2, dims, nullptr), H5Sclose, "H5Screate_simple", where);
-  Hid creation = owned(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "H5Pcreate", where);
-  // Every row is written by some rank: filling first would write the dataset twice.
-  check(H5Pset_fill_time(creation.get(), H5D_FILL_TIME_NEVER), "H5Pset_fill_time", where);
-  return owned(
-      H5Dcreate2(parent, name, file_type, space.get(), H5P_DEFAULT, creation.get(), H5P_DEFAULT),
-      H5Dclose, "H5Dcreate2", where);
-}
-
-// Collectively writes `rows` (`cols` values each) into the rows `sorted_ids` of
-// `dataset`, row k of `rows` going to row sorted_ids[k]. The file selection is a
-// point selection: HDF5 visits points in the order given, which here is memory
-// order and ascending file order. (A union of hyperslabs, one per run of ids,
-// takes time quadratic in the number of runs to build in HDF5 1.10.) It is
-// built per call because HDF5 stores one node per selected element.
-template <class T>
-void write_rows(hid_t dataset, hid_t transfer, std::span<const global_index_t> sorted_ids, int cols,
-                std::span<const T> rows, const std::string& where) {
-  Hid file_space = owned(H5Dget_space(dataset), H5Sclose, "H5Dget_space", where);
-  const hsize_t num_rows = sorted_ids.size();
-  // A rank without rows still joins the collective write, selecting nothing.
-  const hsize_t memory_dims[2] = {std::max<hsize_t>(num_rows, 1), static_cast<hsize_t>(cols)};
-  Hid memory_space =
-      owned(H5Screate_simple(2, memory_dims, nullptr), H5Sclose, "H5Screate_simple", where);
-  if (num_rows == 0) {
-    check(H5Sselect_none(file_space.get()), "H5Sselect_none", where);
-    check(H5Sselect_none(memory_space.get()), "H5Sselect_none", where);
-  } else {
-    std::vector<hsize_t> coordinates;  // (row, col) of each element, memory order
-    coordinates.reserve(2 * num_rows * cols);
-    for (global_index_t row : sorted_ids) {
-      for (int col = 0; col < cols; ++col) {
-        coordinates.push_back(static_cast<hsize_t>(row));
-        coordinates.push_back(static_cast<hsize_t>(col));
-      }
-    }
-    check(H5Sselect_elements(file_space.get(), H5S_SELECT_SET, coordinates.size() / 2,
-                             coordinates.data()),
-          "H5Sselect_elements", where);
-  }
-  const T unused{};  // HDF5 wants a buffer even when nothing is selected
-  check(H5Dwrite(dataset, native_type<T>(), memory_space.get(), file_space.get(), transfer,
-                 rows.empty() ? &unused : rows.data()),
-        "H5Dwrite", where);
 }
 
 // Writes `text` to `path` through a temporary file and a rename, so readers see
@@ -183,7 +107,7 @@ std::string xdmf_grid(int frame, double time, global_index_t num_vertices, globa
     grid << "        <Topology TopologyType=\"Tetrahedron\" NumberOfElements=\"" << num_tets
          << "\">\n"
          << "          <DataItem Dimensions=\"" << num_tets
-         << " 4\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" << kH5Name
+         << " 4\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" << kH5Name
          << ":/mesh/tets</DataItem>\n"
          << "        </Topology>\n";
   } else {
@@ -212,32 +136,35 @@ std::string xdmf_document(const std::string& grids) {
 
 struct FrameWriter::Impl {
   Impl(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout, int resume_after);
+  // Routes the layout's rows to their blocks: rest positions into
+  // rest_block, tet rows into the returned tet block; throws LogicError on
+  // every rank unless the layout covers every vertex and tet exactly once.
+  std::vector<global_index_t> route_layout(const FrameWriterLayout& layout);
   // Resuming: drops frames after `last` from the file (a killed run may have
   // written past its last checkpoint) and rebuilds the XDMF list up to it.
   void resume(int last);
-  void verify_layout(const FrameWriterLayout& layout,
-                     std::span<const global_index_t> sorted_tet_ids) const;
   void create_output_directory() const;
-  void write_mesh(const FrameWriterLayout& layout, std::span<const std::size_t> tet_order,
-                  std::span<const global_index_t> sorted_tet_ids);
+  void write_mesh(std::span<const global_index_t> tet_block, global_index_t first_tet);
   void write_frame(int frame, double time, std::span<const double> owned_positions,
                    std::span<const double> owned_velocities);
-  // Creates `name` in `group` and writes the owned rows, already in
-  // sorted_vertex_ids order.
-  void write_vertex_dataset(hid_t group, const char* name, std::span<const double> sorted_rows,
-                            const std::string& where);
+  // Creates `name` in `group` and writes this rank's block of rows.
+  void write_vertex_block(hid_t group, const char* name, std::span<const double> block,
+                          const std::string& where);
 
   MPI_Comm comm;  // the caller's; it outlives the writer
   int rank = 0;
+  int size = 1;
   fs::path dir;
   global_index_t num_vertices;
   global_index_t num_tets;
-  // Owned vertex k of the caller's order is row sorted_vertex_ids[k'] of the
-  // file, where vertex_order[k'] == k.
-  std::vector<std::size_t> vertex_order;
-  std::vector<global_index_t> sorted_vertex_ids;
-  // The owned rest positions in sorted_vertex_ids order, for the displacements.
-  std::vector<double> sorted_rest_positions;
+  std::size_t num_owned;  // rows of the caller's frame arrays
+  // Rest positions of this rank's unused vertices, sent with every frame
+  // (zero velocity) so that their block rows are filled like any other.
+  std::vector<double> unused_rest_positions;
+  // Owned then unused vertices of this rank, to the vertex blocks.
+  std::optional<BlockRouting> vertex_routing;
+  // This rank's block of vertex rows, 3 doubles per row, in id order.
+  std::vector<double> rest_block, positions_block, displacement_block, velocity_block;
   std::string xdmf_grids;  // rank 0: one <Grid> per written frame
   // Released in reverse order of declaration: the transfer list, then the file.
   Hid file;
@@ -249,20 +176,18 @@ FrameWriter::Impl::Impl(MPI_Comm comm_, const std::string& dir_, const FrameWrit
     : comm(comm_),
       dir(dir_),
       num_vertices(layout.num_global_vertices),
-      num_tets(layout.num_global_tets) {
+      num_tets(layout.num_global_tets),
+      num_owned(layout.owned_vertex_ids.size()),
+      unused_rest_positions(layout.unused_rest_positions.begin(),
+                            layout.unused_rest_positions.end()) {
   MPI_Comm_rank(comm, &rank);
-  vertex_order = ascending_order(layout.owned_vertex_ids);
-  sorted_vertex_ids = permute_rows(layout.owned_vertex_ids, vertex_order, 1);
-  const auto tet_order = ascending_order(layout.tet_ids);
-  const auto sorted_tet_ids = permute_rows(layout.tet_ids, tet_order, 1);
-  verify_layout(layout, sorted_tet_ids);
-  sorted_rest_positions = permute_rows(layout.owned_rest_positions, vertex_order, 3);
+  MPI_Comm_size(comm, &size);
+  const std::vector<global_index_t> tet_block = route_layout(layout);
 
   create_output_directory();
   const std::string h5 = (dir / kH5Name).string();
   {
-    Hid access = owned(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "H5Pcreate", h5);
-    check(H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL), "H5Pset_fapl_mpio", h5);
+    Hid access = hdf5::mpio_access(comm, h5);
     // Default format bounds on purpose: the newest superblock marks a file as
     // open for writing, and a killed run would leave it unreadable without h5clear.
     file = resume_after >= 0
@@ -270,18 +195,58 @@ FrameWriter::Impl::Impl(MPI_Comm comm_, const std::string& dir_, const FrameWrit
                : owned(H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose,
                        "H5Fcreate", h5);
   }
-  collective_transfer = owned(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "H5Pcreate", h5);
-  check(H5Pset_dxpl_mpio(collective_transfer.get(), H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio", h5);
+  collective_transfer = hdf5::collective_transfer(h5);
   if (resume_after >= 0) {
     resume(resume_after);
     return;
   }
 
-  write_mesh(layout, tet_order, sorted_tet_ids);
+  write_mesh(tet_block, BlockRange(num_tets, size).begin(rank));
   // Created empty; each frame adds its group here.
   Hid frames = owned(H5Gcreate2(file.get(), "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                      H5Gclose, "H5Gcreate2", h5 + ":/frames");
   check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush", h5);
+}
+
+// Sizes and id ranges are checked first (a vertex id out of range has no
+// block to go to); the routing then counts what reaches each block, which
+// finds any row missing or given twice, on whichever ranks.
+std::vector<global_index_t> FrameWriter::Impl::route_layout(const FrameWriterLayout& layout) {
+  const std::string mistake =
+      detail::concat("FrameWriter for ", dir.string(),
+                     ": the layout must give every vertex and tet to exactly one rank, with ids in "
+                     "range and 3 positions or 4 vertex ids per row");
+  const bool shapes_ok =
+      num_vertices >= 0 && num_tets >= 0 &&
+      layout.owned_rest_positions.size() == 3 * layout.owned_vertex_ids.size() &&
+      layout.unused_rest_positions.size() == 3 * layout.unused_vertex_ids.size() &&
+      layout.tet_vertices.size() == 4 * layout.tet_ids.size() &&
+      all_below(layout.owned_vertex_ids, num_vertices) &&
+      all_below(layout.unused_vertex_ids, num_vertices) && all_below(layout.tet_ids, num_tets) &&
+      all_below(layout.tet_vertices, num_vertices);
+  verify_on_every_rank(comm, shapes_ok, mistake);
+
+  std::vector<global_index_t> vertex_ids(layout.owned_vertex_ids.begin(),
+                                         layout.owned_vertex_ids.end());
+  vertex_ids.insert(vertex_ids.end(), layout.unused_vertex_ids.begin(),
+                    layout.unused_vertex_ids.end());
+  vertex_routing.emplace(comm, BlockRange(num_vertices, size), vertex_ids);
+  BlockRouting tet_routing(comm, BlockRange(num_tets, size), layout.tet_ids);
+  if (!vertex_routing->covers_each_row_once() || !tet_routing.covers_each_row_once())
+    throw LogicError(mistake);  // both flags are the same on every rank
+
+  std::vector<double> rest(layout.owned_rest_positions.begin(), layout.owned_rest_positions.end());
+  rest.insert(rest.end(), unused_rest_positions.begin(), unused_rest_positions.end());
+  const std::size_t block_values = 3 * static_cast<std::size_t>(vertex_routing->num_rows());
+  rest_block.resize(block_values);
+  vertex_routing->route<double>(rest, 3, rest_block);
+  positions_block.resize(block_values);
+  displacement_block.resize(block_values);
+  velocity_block.resize(block_values);
+
+  std::vector<global_index_t> tet_block(4 * static_cast<std::size_t>(tet_routing.num_rows()));
+  tet_routing.route<global_index_t>(layout.tet_vertices, 4, tet_block);
+  return tet_block;
 }
 
 namespace {
@@ -319,27 +284,6 @@ void FrameWriter::Impl::resume(int last) {
                                 detail::concat("cannot write ", (dir / kXdmfName).string()));
 }
 
-// Each rank checks its own part; the summed counts show that the parts cover
-// the mesh (with no duplicates on a rank, this catches most mistakes).
-void FrameWriter::Impl::verify_layout(const FrameWriterLayout& layout,
-                                      std::span<const global_index_t> sorted_tet_ids) const {
-  long long owned_counts[2] = {static_cast<long long>(sorted_vertex_ids.size()),
-                               static_cast<long long>(sorted_tet_ids.size())};
-  MPI_Allreduce(MPI_IN_PLACE, owned_counts, 2, MPI_LONG_LONG, MPI_SUM, comm);
-  const bool layout_ok = owned_counts[0] == num_vertices && owned_counts[1] == num_tets &&
-                         layout.owned_rest_positions.size() == 3 * layout.owned_vertex_ids.size() &&
-                         layout.tet_vertices.size() == 4 * layout.tet_ids.size() &&
-                         all_below(sorted_vertex_ids, num_vertices) &&
-                         all_below(sorted_tet_ids, num_tets) &&
-                         all_below(layout.tet_vertices, num_vertices) &&
-                         !has_duplicates(sorted_vertex_ids) && !has_duplicates(sorted_tet_ids);
-  verify_on_every_rank(comm, layout_ok,
-                       detail::concat("FrameWriter for ", dir.string(),
-                                      ": the layout must give every vertex and tet to exactly one "
-                                      "rank, with ids in range and 3 positions or 4 vertex ids "
-                                      "per row"));
-}
-
 // Rank 0 creates DIR and removes an index left by an earlier run, which would
 // name frames that the new frames.h5 does not hold.
 void FrameWriter::Impl::create_output_directory() const {
@@ -355,39 +299,66 @@ void FrameWriter::Impl::create_output_directory() const {
       comm, error, detail::concat("cannot prepare the output directory ", dir.string()));
 }
 
-void FrameWriter::Impl::write_mesh(const FrameWriterLayout& layout,
-                                   std::span<const std::size_t> tet_order,
-                                   std::span<const global_index_t> sorted_tet_ids) {
+void FrameWriter::Impl::write_mesh(std::span<const global_index_t> tet_block,
+                                   global_index_t first_tet) {
   const std::string h5 = (dir / kH5Name).string();
   Hid mesh = owned(H5Gcreate2(file.get(), "/mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
                    "H5Gcreate2", h5 + ":/mesh");
-
-  write_vertex_dataset(mesh.get(), "rest_positions", sorted_rest_positions,
-                       h5 + ":/mesh/rest_positions");
-
+  write_vertex_block(mesh.get(), "rest_positions", rest_block, h5 + ":/mesh/rest_positions");
   const std::string tets_where = h5 + ":/mesh/tets";
-  Hid tets = create_dataset(mesh.get(), "tets", H5T_STD_I32LE, num_tets, 4, tets_where);
-  const auto sorted_tet_vertices = permute_rows(layout.tet_vertices, tet_order, 4);
-  write_rows(tets.get(), collective_transfer.get(), sorted_tet_ids, 4,
-             std::span<const global_index_t>(sorted_tet_vertices), tets_where);
+  // 64-bit: global vertex ids of a cluster-sized mesh pass 2^31.
+  Hid tets = hdf5::create_rows_dataset(mesh.get(), "tets", H5T_STD_I64LE, num_tets, 4, tets_where);
+  hdf5::write_block(tets.get(), collective_transfer.get(), H5T_NATIVE_INT64, first_tet,
+                    static_cast<global_index_t>(tet_block.size() / 4), 4, tet_block.data(),
+                    tets_where);
 }
 
-void FrameWriter::Impl::write_vertex_dataset(hid_t group, const char* name,
-                                             std::span<const double> sorted_rows,
-                                             const std::string& where) {
-  Hid dataset = create_dataset(group, name, H5T_IEEE_F64LE, num_vertices, 3, where);
-  write_rows(dataset.get(), collective_transfer.get(), sorted_vertex_ids, 3, sorted_rows, where);
+void FrameWriter::Impl::write_vertex_block(hid_t group, const char* name,
+                                           std::span<const double> block,
+                                           const std::string& where) {
+  Hid dataset = hdf5::create_rows_dataset(group, name, H5T_IEEE_F64LE, num_vertices, 3, where);
+  hdf5::write_block(dataset.get(), collective_transfer.get(), H5T_NATIVE_DOUBLE,
+                    vertex_routing->first_row(), vertex_routing->num_rows(), 3, block.data(),
+                    where);
 }
 
 void FrameWriter::Impl::write_frame(int frame, double time, std::span<const double> owned_positions,
                                     std::span<const double> owned_velocities) {
-  const std::size_t owned_values = 3 * sorted_vertex_ids.size();
+  const std::size_t owned_values = 3 * num_owned;
   verify_on_every_rank(
       comm,
       frame >= 0 && frame <= kLastFrame && owned_positions.size() == owned_values &&
           owned_velocities.size() == owned_values,
       detail::concat("FrameWriter::write_frame(", frame, "): the frame must be in [0, ", kLastFrame,
                      "] and come with 3 positions and 3 velocities per owned vertex"));
+
+  // One message per destination with both arrays: per row 3 positions then
+  // 3 velocities. Unused vertices go at rest, with zero velocity.
+  constexpr std::size_t kRowBytes = 6 * sizeof(double);
+  BlockRouting& routing = *vertex_routing;
+  std::vector<std::byte>& send = routing.send_buffer();
+  send.resize(routing.num_sent() * kRowBytes);
+  const double zero_velocity[3] = {0, 0, 0};
+  for (std::size_t k = 0; k < routing.num_sent(); ++k) {
+    std::byte* row = &send[routing.send_slot(k) * kRowBytes];
+    const bool unused = k >= num_owned;
+    const double* position =
+        unused ? &unused_rest_positions[3 * (k - num_owned)] : &owned_positions[3 * k];
+    std::memcpy(row, position, 3 * sizeof(double));
+    std::memcpy(row + 3 * sizeof(double), unused ? zero_velocity : &owned_velocities[3 * k],
+                3 * sizeof(double));
+  }
+  routing.exchange_rows(kRowBytes);
+  const std::vector<std::byte>& received = routing.receive_buffer();
+  for (std::size_t j = 0; j < routing.num_received(); ++j) {
+    const std::size_t row = routing.block_row(j);
+    std::memcpy(&positions_block[3 * row], &received[j * kRowBytes], 3 * sizeof(double));
+    std::memcpy(&velocity_block[3 * row], &received[j * kRowBytes + 3 * sizeof(double)],
+                3 * sizeof(double));
+  }
+  for (std::size_t k = 0; k < positions_block.size(); ++k)
+    displacement_block[k] = positions_block[k] - rest_block[k];
+
   const std::string h5 = (dir / kH5Name).string();
   const std::string group_path = "/frames/" + frame_name(frame);
   const std::string where = h5 + ":" + group_path;
@@ -403,15 +374,9 @@ void FrameWriter::Impl::write_frame(int frame, double time, std::span<const doub
         H5Aclose, "H5Acreate2", time_where);
     check(H5Awrite(time_attribute.get(), H5T_NATIVE_DOUBLE, &time), "H5Awrite", time_where);
 
-    const auto sorted_positions = permute_rows(owned_positions, vertex_order, 3);
-    write_vertex_dataset(group.get(), "positions", sorted_positions, where + "/positions");
-    std::vector<double> sorted_displacements(sorted_positions.size());
-    for (std::size_t k = 0; k < sorted_positions.size(); ++k)
-      sorted_displacements[k] = sorted_positions[k] - sorted_rest_positions[k];
-    write_vertex_dataset(group.get(), "displacement", sorted_displacements,
-                         where + "/displacement");
-    write_vertex_dataset(group.get(), "velocity", permute_rows(owned_velocities, vertex_order, 3),
-                         where + "/velocity");
+    write_vertex_block(group.get(), "positions", positions_block, where + "/positions");
+    write_vertex_block(group.get(), "displacement", displacement_block, where + "/displacement");
+    write_vertex_block(group.get(), "velocity", velocity_block, where + "/velocity");
   }
   check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush", h5);
 

@@ -4,23 +4,32 @@
 // as a time series. Vertices and tets are stored in the input mesh's order,
 // whatever the rank count.
 //
+// How: rank r of P writes its block of rows, [begin(r), end(r)) of
+// BlockRange(num_vertices, P), of every vertex array, and its block of
+// BlockRange(num_tets, P) of /mesh/tets, each as one contiguous hyperslab.
+// The rows a rank owns, in any numbering, travel to the rank whose block
+// holds them: the plan is made at construction, and each frame moves
+// positions and velocities together in one MPI_Alltoallv.
+//
 // File layout (DIR/frames.h5), every vertex array float64 [num_vertices, 3]
 // in input vertex order:
-//   /mesh/tets                  int32 [num_tets, 4]  global vertex ids, input order
+//   /mesh/tets                  int64 [num_tets, 4]  global vertex ids, input order
 //   /mesh/rest_positions
 //   /frames/NNNNNN/positions    one group per written frame, NNNNNN its number
 //   /frames/NNNNNN/displacement positions - rest_positions
 //   /frames/NNNNNN/velocity
 //   attribute "time" (float64) on each frame group
+// Vertices no tet uses stay at rest: zero displacement and velocity.
 // DIR/frames.xdmf: one temporal collection with one Uniform grid per frame,
 // all data by reference into frames.h5 (relative paths, so DIR can move).
 // Each grid has its Time, the frame's positions as Geometry (ParaView shows
 // the deformed body) and node Attributes "displacement" and "velocity"
-// (vectors). The first grid holds the Topology; the others include it by
-// xpointer. meshio's TimeSeriesReader takes its points and cells from that
-// first grid: for a run, frame 0, written before the first step, at rest. So
-// read_points_cells() is the rest mesh, and read_data(k) gives frame k's time
-// and point data "displacement" and "velocity" (it skips the Geometry).
+// (vectors). The first grid holds the Topology (NumberType Int, Precision 8);
+// the others include it by xpointer. meshio's TimeSeriesReader takes its
+// points and cells from that first grid: for a run, frame 0, written before
+// the first step, at rest. So read_points_cells() is the rest mesh, and
+// read_data(k) gives frame k's time and point data "displacement" and
+// "velocity" (it skips the Geometry).
 // frames.xdmf is rewritten after every frame and the HDF5 file flushed, so a
 // run killed mid-way leaves a readable series of every completed frame.
 #include <mpi.h>
@@ -37,16 +46,18 @@ namespace descent {
 struct FrameWriterLayout {
   global_index_t num_global_vertices = 0;
   global_index_t num_global_tets = 0;
-  // Vertices this rank writes (each global vertex is written by exactly one
-  // rank): their global ids, ascending or not.
+  // Vertices this rank writes each frame: their global ids, in any order.
+  // Each vertex a tet uses is owned by exactly one rank.
   std::span<const global_index_t> owned_vertex_ids;
-  // Tets this rank writes (each global tet by exactly one rank): their global
-  // tet ids and their 4 global vertex ids each (4 * size entries).
+  // Tets this rank writes at open (each global tet by exactly one rank): their
+  // global tet ids and their 4 global vertex ids each (4 * size entries).
   std::span<const global_index_t> tet_ids;
   std::span<const global_index_t> tet_vertices;
   // Rest positions of the owned vertices, 3 per vertex in owned_vertex_ids order.
   std::span<const double> owned_rest_positions;
-  // Vertices no tet uses, each listed by one rank: written at rest.
+  // Vertices no tet uses (a mesh file may have them): kept, and written at
+  // rest in every frame. Each is listed by exactly one rank, with 3 rest
+  // positions per vertex in unused_vertex_ids order.
   std::span<const global_index_t> unused_vertex_ids;
   std::span<const double> unused_rest_positions;
 };

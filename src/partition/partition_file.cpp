@@ -33,16 +33,15 @@ template <class T>
 void write_attribute(hid_t group, const char* name, hid_t file_type, hid_t memory_type,
                      const T& value, const std::string& where) {
   Hid space = owned(H5Screate(H5S_SCALAR), H5Sclose, "H5Screate", where);
-  Hid attribute =
-      owned(H5Acreate2(group, name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
-            "H5Acreate2", where + " attribute " + name);
+  Hid attribute = owned(H5Acreate2(group, name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                        H5Aclose, "H5Acreate2", where + " attribute " + name);
   check(H5Awrite(attribute.get(), memory_type, &value), "H5Awrite", where);
 }
 
 template <class T>
 T read_attribute(hid_t group, const char* name, hid_t memory_type, const std::string& where) {
-  Hid attribute = owned(H5Aopen(group, name, H5P_DEFAULT), H5Aclose, "H5Aopen",
-                        where + " attribute " + name);
+  Hid attribute =
+      owned(H5Aopen(group, name, H5P_DEFAULT), H5Aclose, "H5Aopen", where + " attribute " + name);
   T value{};
   check(H5Aread(attribute.get(), memory_type, &value), "H5Aread", where + " attribute " + name);
   return value;
@@ -53,15 +52,14 @@ void write_text_attribute(hid_t group, const char* name, const std::string& text
   Hid type = owned(H5Tcopy(H5T_C_S1), H5Tclose, "H5Tcopy", where);
   check(H5Tset_size(type.get(), text.size()), "H5Tset_size", where);
   Hid space = owned(H5Screate(H5S_SCALAR), H5Sclose, "H5Screate", where);
-  Hid attribute =
-      owned(H5Acreate2(group, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
-            "H5Acreate2", where + " attribute " + name);
+  Hid attribute = owned(H5Acreate2(group, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                        H5Aclose, "H5Acreate2", where + " attribute " + name);
   check(H5Awrite(attribute.get(), type.get(), text.data()), "H5Awrite", where);
 }
 
 std::string read_text_attribute(hid_t group, const char* name, const std::string& where) {
-  Hid attribute = owned(H5Aopen(group, name, H5P_DEFAULT), H5Aclose, "H5Aopen",
-                        where + " attribute " + name);
+  Hid attribute =
+      owned(H5Aopen(group, name, H5P_DEFAULT), H5Aclose, "H5Aopen", where + " attribute " + name);
   Hid type = owned(H5Aget_type(attribute.get()), H5Tclose, "H5Aget_type", where);
   std::string text(H5Tget_size(type.get()), '\0');
   check(H5Aread(attribute.get(), type.get(), text.data()), "H5Aread", where);
@@ -76,8 +74,8 @@ struct Rows {
 }  // namespace
 
 void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlice& slice,
-                          const std::vector<PartTets>& held, int num_parts,
-                          PartitionMethod method, const PartitionQuality& quality) {
+                          const std::vector<PartTets>& held, int num_parts, PartitionMethod method,
+                          const PartitionQuality& quality) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -88,8 +86,8 @@ void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlic
   // the ranks' rows are too.
   std::vector<global_index_t> part_tets(num_parts, 0);
   for (const PartTets& p : held) part_tets[p.part] = p.num_tets();
-  DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, part_tets.data(), num_parts, MPI_INT64_T, MPI_SUM,
-                                  comm));
+  DESCENT_MPI_CHECK(
+      MPI_Allreduce(MPI_IN_PLACE, part_tets.data(), num_parts, MPI_INT64_T, MPI_SUM, comm));
   std::vector<global_index_t> offsets(num_parts + 1, 0);
   for (int p = 0; p < num_parts; ++p) offsets[p + 1] = offsets[p] + part_tets[p];
   Rows mine;
@@ -121,8 +119,8 @@ void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlic
     write_attribute(group.get(), "num_parts", H5T_STD_I64LE, H5T_NATIVE_INT64, parts, where);
     write_attribute(group.get(), "cut_faces", H5T_STD_I64LE, H5T_NATIVE_INT64, quality.cut_faces,
                     where);
-    write_attribute(group.get(), "imbalance", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-                    quality.imbalance, where);
+    write_attribute(group.get(), "imbalance", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, quality.imbalance,
+                    where);
     write_text_attribute(group.get(), "method", method_key(method), where);
 
     // Small tables, written by rank 0 (the others select nothing).
@@ -141,8 +139,8 @@ void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlic
                                             where + "/tet_ids");
     hdf5::write_block(ids_set.get(), transfer.get(), H5T_NATIVE_INT64, mine.first, mine.count, 1,
                       ids.data(), where + "/tet_ids");
-    Hid tets_set = hdf5::create_rows_dataset(group.get(), "tets", H5T_STD_I64LE, total, 4,
-                                             where + "/tets");
+    Hid tets_set =
+        hdf5::create_rows_dataset(group.get(), "tets", H5T_STD_I64LE, total, 4, where + "/tets");
     hdf5::write_block(tets_set.get(), transfer.get(), H5T_NATIVE_INT64, mine.first, mine.count, 4,
                       tets.data(), where + "/tets");
     Hid surface_set = hdf5::create_rows_dataset(group.get(), "surface_faces", H5T_STD_U8LE, total,
@@ -177,24 +175,25 @@ PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
   {
     std::error_code missing;
     if (!std::filesystem::is_regular_file(path, missing))
-      throw InputError(detail::concat(path, ": no such file (--partition names a file that "
-                                            "`descent partition` wrote)"));
+      throw InputError(detail::concat(path,
+                                      ": no such file (--partition names a file that "
+                                      "`descent partition` wrote)"));
     Hid access = hdf5::mpio_access(comm, path);
     Hid file =
         owned(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), H5Fclose, "H5Fopen", path);
     if (H5Lexists(file.get(), "/partition", H5P_DEFAULT) <= 0)
       throw InputError(detail::concat(
-          path, ": no /partition group: a mesh file, not a partition (make one with descent "
-                "partition SCENE -n P -o FILE.h5)"));
+          path,
+          ": no /partition group: a mesh file, not a partition (make one with descent "
+          "partition SCENE -n P -o FILE.h5)"));
     Hid group = owned(H5Gopen2(file.get(), "/partition", H5P_DEFAULT), H5Gclose, "H5Gopen2", where);
-    const auto parts = read_attribute<global_index_t>(group.get(), "num_parts", H5T_NATIVE_INT64,
-                                                      where);
+    const auto parts =
+        read_attribute<global_index_t>(group.get(), "num_parts", H5T_NATIVE_INT64, where);
     if (parts != size)
-      throw InputError(detail::concat(path, " holds a partition into ", parts,
-                                      " parts, for runs on ", parts, " ranks; this run has ", size,
-                                      " rank(s): run on ", parts,
-                                      " ranks, or partition again with descent partition -n ",
-                                      size));
+      throw InputError(
+          detail::concat(path, " holds a partition into ", parts, " parts, for runs on ", parts,
+                         " ranks; this run has ", size, " rank(s): run on ", parts,
+                         " ranks, or partition again with descent partition -n ", size));
     piece.method = read_text_attribute(group.get(), "method", where);
     piece.quality.cut_faces =
         read_attribute<global_index_t>(group.get(), "cut_faces", H5T_NATIVE_INT64, where);
@@ -241,8 +240,7 @@ PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
         owned(H5Dopen2(file.get(), "/mesh/positions", H5P_DEFAULT), H5Dclose, "H5Dopen2", path);
     Hid space = owned(H5Dget_space(positions.get()), H5Sclose, "H5Dget_space", path);
     hsize_t dims[2] = {0, 0};
-    check(H5Sget_simple_extent_dims(space.get(), dims, nullptr), "H5Sget_simple_extent_dims",
-          path);
+    check(H5Sget_simple_extent_dims(space.get(), dims, nullptr), "H5Sget_simple_extent_dims", path);
     piece.num_global_vertices = static_cast<global_index_t>(dims[0]);
     piece.num_global_tets = offsets.back();
     const BlockRange blocks(piece.num_global_vertices, size);
@@ -262,9 +260,9 @@ DistributedMesh distribute_piece(MPI_Comm comm, PartitionPiece piece, const std:
   std::string error;
   for (const global_index_t v : piece.tets.vertices)
     if (v < 0 || v >= num_vertices) {
-      error = detail::concat(source, ": /partition/tets of part ", piece.tets.part,
-                             " refers to vertex ", v, ", but the mesh has ", num_vertices,
-                             " vertices");
+      error =
+          detail::concat(source, ": /partition/tets of part ", piece.tets.part,
+                         " refers to vertex ", v, ", but the mesh has ", num_vertices, " vertices");
       break;
     }
   throw_if_any_failed(comm, error);

@@ -28,8 +28,8 @@ namespace descent {
 // holds (parts_of_rank order), through PATH.tmp renamed at the end, so an
 // interrupted write leaves no file that looks whole.
 void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlice& slice,
-                          const std::vector<PartTets>& held, int num_parts,
-                          PartitionMethod method, const PartitionQuality& quality);
+                          const std::vector<PartTets>& held, int num_parts, PartitionMethod method,
+                          const PartitionQuality& quality);
 
 // This rank's piece of a partition file, and the rank's block of vertices.
 struct PartitionPiece {

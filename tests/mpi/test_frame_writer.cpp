@@ -1,14 +1,17 @@
-// FrameWriter and StatsWriter under 1, 2 and 3 ranks. Ranks own interleaved,
-// non-contiguous rows given in descending order; rank 0 then reopens the files
+// FrameWriter and StatsWriter under 1 to 4 ranks. Ranks own interleaved,
+// non-contiguous rows given in descending order, or rows of a shuffled
+// numbering, and some vertices belong to no tet; rank 0 then reopens the files
 // serially and checks every value. Each test ends by agreeing across ranks on
 // pass or fail, so a failure seen on one rank fails the test on all of them.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <numeric>
 #include <random>
 #include <sstream>
 #include <string>
@@ -17,14 +20,16 @@
 
 #include "common/error.hpp"
 #include "io/frame_writer.hpp"
+#include "meshes/generators.hpp"
+#include "shared_test_directory.hpp"
 
 namespace descent {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr index_t kNumVertices = 20;
-constexpr index_t kNumTets = 10;
+constexpr global_index_t kNumVertices = 20;
+constexpr global_index_t kNumTets = 10;
 const std::vector<int> kFrames = {0, 7, 12};  // 000012 checks the zero padding
 
 int comm_rank() {
@@ -40,57 +45,29 @@ int comm_size() {
 }
 
 // Known values of the synthetic mesh, as functions of global ids.
-double rest_position(index_t vertex, int axis) { return vertex + 0.1 * axis; }
+double rest_position(global_index_t vertex, int axis) { return vertex + 0.1 * axis; }
 
-double frame_position(index_t vertex, int axis, int frame) {
+double frame_position(global_index_t vertex, int axis, int frame) {
   return 1000.0 * frame + vertex + 0.01 * axis + 1.0 / 3.0;
 }
 
-double frame_velocity(index_t vertex, int axis, int frame) {
+double frame_velocity(global_index_t vertex, int axis, int frame) {
   return -0.5 * frame + 0.25 * vertex - axis / 7.0;
 }
 
 double frame_time(int frame) { return 0.1 * frame + 1e-7; }
 
-index_t tet_vertex(index_t tet, int corner) {
-  const index_t offsets[4] = {0, 3, 7, 11};
+global_index_t tet_vertex(global_index_t tet, int corner) {
+  const global_index_t offsets[4] = {0, 3, 7, 11};
   return (tet + offsets[corner]) % kNumVertices;
 }
 
-// A directory under the system temp directory, named by rank 0 and removed at
-// the end of the test.
-class TestDirectory {
+// A fresh directory per test, shared by the ranks.
+class TestDirectory : public SharedTestDirectory {
  public:
-  explicit TestDirectory(const std::string& test_name) {
-    std::string name;
-    if (comm_rank() == 0) {
-      std::random_device random;
-      name = "descent_test_frame_writer_" + test_name + "_" + std::to_string(random()) +
-             std::to_string(random());
-    }
-    int length = static_cast<int>(name.size());
-    MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    name.resize(length);
-    MPI_Bcast(name.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
-    path_ = fs::temp_directory_path() / name;
-  }
-  ~TestDirectory() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    std::error_code ignored;
-    if (comm_rank() == 0) fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
+  explicit TestDirectory(const std::string& test_name)
+      : SharedTestDirectory("descent_test_frame_writer_" + test_name) {}
 };
-
-// Fails the current test on every rank when it failed on any.
-void expect_all_ranks_passed() {
-  int failed = ::testing::Test::HasFailure() ? 1 : 0;
-  MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  EXPECT_EQ(failed, 0) << "some rank failed this test";
-}
 
 // The rows one rank writes, in descending id order to exercise the sorting.
 struct OwnedPart {
@@ -100,17 +77,17 @@ struct OwnedPart {
   std::vector<global_index_t> tet_vertices;
 
   FrameWriterLayout layout() const {
-    return {kNumVertices, kNumTets, vertex_ids, tet_ids, tet_vertices, rest_positions};
+    return {kNumVertices, kNumTets, vertex_ids, tet_ids, tet_vertices, rest_positions, {}, {}};
   }
   std::vector<double> positions(int frame) const {
     std::vector<double> positions;
-    for (index_t vertex : vertex_ids)
+    for (global_index_t vertex : vertex_ids)
       for (int axis = 0; axis < 3; ++axis) positions.push_back(frame_position(vertex, axis, frame));
     return positions;
   }
   std::vector<double> velocities(int frame) const {
     std::vector<double> velocities;
-    for (index_t vertex : vertex_ids)
+    for (global_index_t vertex : vertex_ids)
       for (int axis = 0; axis < 3; ++axis)
         velocities.push_back(frame_velocity(vertex, axis, frame));
     return velocities;
@@ -120,16 +97,16 @@ struct OwnedPart {
   }
 };
 
-OwnedPart owned_part(const std::function<int(index_t)>& vertex_owner,
-                     const std::function<int(index_t)>& tet_owner) {
+OwnedPart owned_part(const std::function<int(global_index_t)>& vertex_owner,
+                     const std::function<int(global_index_t)>& tet_owner) {
   OwnedPart part;
   const int rank = comm_rank();
-  for (index_t vertex = kNumVertices - 1; vertex >= 0; --vertex) {
+  for (global_index_t vertex = kNumVertices - 1; vertex >= 0; --vertex) {
     if (vertex_owner(vertex) != rank) continue;
     part.vertex_ids.push_back(vertex);
     for (int axis = 0; axis < 3; ++axis) part.rest_positions.push_back(rest_position(vertex, axis));
   }
-  for (index_t tet = kNumTets - 1; tet >= 0; --tet) {
+  for (global_index_t tet = kNumTets - 1; tet >= 0; --tet) {
     if (tet_owner(tet) != rank) continue;
     part.tet_ids.push_back(tet);
     for (int corner = 0; corner < 4; ++corner) part.tet_vertices.push_back(tet_vertex(tet, corner));
@@ -148,6 +125,16 @@ std::vector<hsize_t> dataset_dims(hid_t file, const std::string& path) {
   H5Sclose(space);
   H5Dclose(dataset);
   return dims;
+}
+
+bool dataset_type_is(hid_t file, const std::string& path, hid_t expected) {
+  const hid_t dataset = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
+  if (dataset < 0) return false;
+  const hid_t type = H5Dget_type(dataset);
+  const bool equal = H5Tequal(type, expected) > 0;
+  H5Tclose(type);
+  H5Dclose(dataset);
+  return equal;
 }
 
 template <class T>
@@ -190,9 +177,11 @@ void check_h5(const fs::path& h5_path) {
 
   const std::vector<hsize_t> tets_dims = {kNumTets, 4};
   EXPECT_EQ(dataset_dims(file, "/mesh/tets"), tets_dims);
-  const auto tets = read_dataset<index_t>(file, "/mesh/tets", H5T_NATIVE_INT32, 4 * kNumTets);
+  EXPECT_TRUE(dataset_type_is(file, "/mesh/tets", H5T_STD_I64LE)) << "ids past 2^31 fit";
+  const auto tets =
+      read_dataset<global_index_t>(file, "/mesh/tets", H5T_NATIVE_INT64, 4 * kNumTets);
   ASSERT_EQ(tets.size(), std::size_t{4 * kNumTets});
-  for (index_t tet = 0; tet < kNumTets; ++tet)
+  for (global_index_t tet = 0; tet < kNumTets; ++tet)
     for (int corner = 0; corner < 4; ++corner)
       EXPECT_EQ(tets[4 * tet + corner], tet_vertex(tet, corner)) << "tet " << tet;
 
@@ -201,7 +190,7 @@ void check_h5(const fs::path& h5_path) {
   const auto rest =
       read_dataset<double>(file, "/mesh/rest_positions", H5T_NATIVE_DOUBLE, 3 * kNumVertices);
   ASSERT_EQ(rest.size(), std::size_t{3 * kNumVertices});
-  for (index_t vertex = 0; vertex < kNumVertices; ++vertex)
+  for (global_index_t vertex = 0; vertex < kNumVertices; ++vertex)
     for (int axis = 0; axis < 3; ++axis)
       EXPECT_EQ(rest[3 * vertex + axis], rest_position(vertex, axis)) << "vertex " << vertex;
 
@@ -210,17 +199,17 @@ void check_h5(const fs::path& h5_path) {
     const std::string group = "/frames/" + frame_name(frame);
     EXPECT_EQ(read_time_attribute(file, group), frame_time(frame)) << group;
     // Each vertex array of the frame, by name, and its value at (vertex, axis).
-    const std::vector<std::pair<std::string, std::function<double(index_t, int)>>> arrays = {
-        {"positions", [&](index_t v, int a) { return frame_position(v, a, frame); }},
-        {"displacement",
-         [&](index_t v, int a) { return frame_position(v, a, frame) - rest_position(v, a); }},
-        {"velocity", [&](index_t v, int a) { return frame_velocity(v, a, frame); }}};
+    const std::vector<std::pair<std::string, std::function<double(global_index_t, int)>>> arrays = {
+        {"positions", [&](global_index_t v, int a) { return frame_position(v, a, frame); }},
+        {"displacement", [&](global_index_t v,
+                             int a) { return frame_position(v, a, frame) - rest_position(v, a); }},
+        {"velocity", [&](global_index_t v, int a) { return frame_velocity(v, a, frame); }}};
     for (const auto& [name, expected] : arrays) {
       const std::string path = group + "/" + name;
       EXPECT_EQ(dataset_dims(file, path), vertex_dims) << path;
       const auto values = read_dataset<double>(file, path, H5T_NATIVE_DOUBLE, 3 * kNumVertices);
       ASSERT_EQ(values.size(), std::size_t{3 * kNumVertices}) << path;
-      for (index_t vertex = 0; vertex < kNumVertices; ++vertex)
+      for (global_index_t vertex = 0; vertex < kNumVertices; ++vertex)
         for (int axis = 0; axis < 3; ++axis)
           EXPECT_EQ(values[3 * vertex + axis], expected(vertex, axis))
               << path << " vertex " << vertex << " axis " << axis;
@@ -261,7 +250,7 @@ void check_xdmf(const fs::path& xdmf_path, std::size_t frames_written) {
   EXPECT_EQ(count_occurrences(xdmf, "GridType=\"Uniform\""), frames_written) << xdmf;
   EXPECT_EQ(count_occurrences(xdmf, "<Time Value="), frames_written) << xdmf;
   EXPECT_EQ(count_occurrences(xdmf, "TopologyType=\"Tetrahedron\" NumberOfElements=\"10\""), 1u);
-  EXPECT_EQ(count_occurrences(xdmf, "Dimensions=\"10 4\" NumberType=\"Int\" Precision=\"4\""), 1u);
+  EXPECT_EQ(count_occurrences(xdmf, "Dimensions=\"10 4\" NumberType=\"Int\" Precision=\"8\""), 1u);
   EXPECT_EQ(count_occurrences(xdmf, ">frames.h5:/mesh/tets</DataItem>"), 1u);
   EXPECT_EQ(count_occurrences(xdmf, "xmlns:xi=\"http://www.w3.org/2001/XInclude\""), 1u);
   EXPECT_EQ(count_occurrences(
@@ -296,8 +285,9 @@ void check_xdmf(const fs::path& xdmf_path, std::size_t frames_written) {
 }
 
 // Writes kFrames with the given ownership, then checks the files on rank 0.
-void write_and_check(const std::string& test_name, const std::function<int(index_t)>& vertex_owner,
-                     const std::function<int(index_t)>& tet_owner) {
+void write_and_check(const std::string& test_name,
+                     const std::function<int(global_index_t)>& vertex_owner,
+                     const std::function<int(global_index_t)>& tet_owner) {
   TestDirectory dir(test_name);
   const fs::path output = dir.path() / "nested" / "frames";  // parents are created too
   const OwnedPart part = owned_part(vertex_owner, tet_owner);
@@ -318,13 +308,13 @@ void write_and_check(const std::string& test_name, const std::function<int(index
 TEST(FrameWriter, InterleavedOwnershipWritesEveryRowAtItsGlobalId) {
   const int size = comm_size();
   write_and_check(
-      "interleaved", [size](index_t vertex) { return vertex % size; },
-      [size](index_t tet) { return (tet * 7) % size; });
+      "interleaved", [size](global_index_t vertex) { return vertex % size; },
+      [size](global_index_t tet) { return (tet * 7) % size; });
 }
 
 TEST(FrameWriter, RanksWithoutRowsStillTakePart) {
   write_and_check(
-      "rank0_owns_all", [](index_t) { return 0; }, [](index_t) { return 0; });
+      "rank0_owns_all", [](global_index_t) { return 0; }, [](global_index_t) { return 0; });
 }
 
 // A run killed after frame 12 but checkpointed at frame 7 resumes after 7:
@@ -333,8 +323,8 @@ TEST(FrameWriter, RanksWithoutRowsStillTakePart) {
 TEST(FrameWriter, ResumingDropsLaterFramesAndRebuildsTheIndex) {
   TestDirectory dir("resume");
   const int size = comm_size();
-  const OwnedPart part = owned_part([size](index_t vertex) { return (vertex / 3) % size; },
-                                    [size](index_t tet) { return tet % size; });
+  const OwnedPart part = owned_part([size](global_index_t vertex) { return (vertex / 3) % size; },
+                                    [size](global_index_t tet) { return tet % size; });
   {
     FrameWriter writer(MPI_COMM_WORLD, dir.path().string(), part.layout());
     for (int frame : kFrames) part.write(writer, frame);
@@ -359,8 +349,8 @@ TEST(FrameWriter, ResumingDropsLaterFramesAndRebuildsTheIndex) {
 TEST(FrameWriter, WritingAFrameTwiceThrowsHdf5ErrorOnEveryRank) {
   TestDirectory dir("duplicate_frame");
   const int size = comm_size();
-  const OwnedPart part = owned_part([size](index_t vertex) { return vertex % size; },
-                                    [size](index_t tet) { return tet % size; });
+  const OwnedPart part = owned_part([size](global_index_t vertex) { return vertex % size; },
+                                    [size](global_index_t tet) { return tet % size; });
   FrameWriter writer(MPI_COMM_WORLD, dir.path().string(), part.layout());
   part.write(writer, 3);
   H5E_auto2_t print_errors = nullptr;
@@ -390,8 +380,8 @@ TEST(FrameWriter, DirectoryThatCannotBeCreatedThrowsOnEveryRank) {
   }
   MPI_Barrier(MPI_COMM_WORLD);
   const int size = comm_size();
-  const OwnedPart part = owned_part([size](index_t vertex) { return vertex % size; },
-                                    [size](index_t tet) { return tet % size; });
+  const OwnedPart part = owned_part([size](global_index_t vertex) { return vertex % size; },
+                                    [size](global_index_t tet) { return tet % size; });
   const std::string output = (blocker / "frames").string();
   EXPECT_THROW(FrameWriter(MPI_COMM_WORLD, output, part.layout()), InputError);
   EXPECT_THROW(StatsWriter(MPI_COMM_WORLD, output), InputError);
@@ -401,13 +391,171 @@ TEST(FrameWriter, DirectoryThatCannotBeCreatedThrowsOnEveryRank) {
 TEST(FrameWriter, LayoutThatMissesAVertexThrowsOnEveryRank) {
   TestDirectory dir("bad_layout");
   const int size = comm_size();
-  OwnedPart part = owned_part([size](index_t vertex) { return vertex % size; },
-                              [size](index_t tet) { return tet % size; });
+  OwnedPart part = owned_part([size](global_index_t vertex) { return vertex % size; },
+                              [size](global_index_t tet) { return tet % size; });
   if (comm_rank() == 0) {  // vertex 0 is rank 0's last
     part.vertex_ids.pop_back();
     part.rest_positions.resize(3 * part.vertex_ids.size());
   }
   EXPECT_THROW(FrameWriter(MPI_COMM_WORLD, dir.path().string(), part.layout()), LogicError);
+  expect_all_ranks_passed();
+}
+
+// The old check only summed counts per rank; a vertex listed twice (on two
+// ranks, or twice on one) while another is missing passes that, and must not.
+TEST(FrameWriter, LayoutThatGivesAVertexOrTetTwiceThrowsOnEveryRank) {
+  TestDirectory dir("duplicate_rows");
+  const int size = comm_size();
+  const int last = size - 1;
+  OwnedPart vertices_twice = owned_part([size](global_index_t vertex) { return vertex % size; },
+                                        [size](global_index_t tet) { return tet % size; });
+  OwnedPart tets_twice = vertices_twice;
+  if (comm_rank() == last) {
+    // Replace its first vertex / tet with one rank 0 owns: the counts still add up.
+    vertices_twice.vertex_ids.front() = 0;
+    tets_twice.tet_ids.front() = 0;
+  }
+  EXPECT_THROW(FrameWriter(MPI_COMM_WORLD, dir.path().string(), vertices_twice.layout()),
+               LogicError);
+  EXPECT_THROW(FrameWriter(MPI_COMM_WORLD, dir.path().string(), tets_twice.layout()), LogicError);
+  expect_all_ranks_passed();
+}
+
+// A mesh as a user's file may number it: a box whose vertex and tet ids are
+// shuffled, so that the vertices a rank owns are scattered over the whole id
+// range, plus vertices that no tet uses, at shuffled ids too.
+struct ShuffledMesh {
+  global_index_t num_vertices = 0, num_tets = 0;
+  std::vector<double> positions;             // 3 per vertex, by input id
+  std::vector<global_index_t> tets;          // 4 per tet, by input id
+  std::vector<char> unused;                  // per vertex: no tet uses it
+  std::vector<int> tet_owner, vertex_owner;  // rank of each tet and vertex
+};
+
+constexpr int kUnusedVertices = 5;
+
+ShuffledMesh shuffled_mesh(int size) {
+  BoxParams params;
+  params.cells = {4, 3, 3};
+  const Mesh box = make_box(params);
+  ShuffledMesh mesh;
+  mesh.num_vertices = box.num_vertices() + kUnusedVertices;
+  mesh.num_tets = box.num_tets();
+  // Every rank draws the same permutations: same seed, same library.
+  std::mt19937_64 random(2024);
+  std::vector<global_index_t> vertex_id(mesh.num_vertices), tet_id(mesh.num_tets);
+  std::iota(vertex_id.begin(), vertex_id.end(), 0);
+  std::iota(tet_id.begin(), tet_id.end(), 0);
+  std::shuffle(vertex_id.begin(), vertex_id.end(), random);
+  std::shuffle(tet_id.begin(), tet_id.end(), random);
+
+  mesh.positions.resize(3 * mesh.num_vertices);
+  mesh.unused.assign(mesh.num_vertices, 0);
+  for (global_index_t v = 0; v < mesh.num_vertices; ++v)
+    for (int axis = 0; axis < 3; ++axis)
+      mesh.positions[3 * vertex_id[v] + axis] =
+          v < box.num_vertices() ? box.positions[3 * v + axis] : 10.0 + v + axis;
+  for (global_index_t v = box.num_vertices(); v < mesh.num_vertices; ++v)
+    mesh.unused[vertex_id[v]] = 1;
+
+  // Tets by slabs of x (a partitioner's geometric split), vertices to the
+  // lowest rank of a tet using them, unused vertices round robin.
+  mesh.tets.resize(4 * mesh.num_tets);
+  mesh.tet_owner.resize(mesh.num_tets);
+  mesh.vertex_owner.assign(mesh.num_vertices, size);
+  for (global_index_t t = 0; t < mesh.num_tets; ++t) {
+    double centroid_x = 0;
+    for (int corner = 0; corner < 4; ++corner)
+      centroid_x += 0.25 * box.positions[3 * box.tets[4 * t + corner]];
+    const int owner = std::min(size - 1, static_cast<int>(centroid_x * size));
+    mesh.tet_owner[tet_id[t]] = owner;
+    for (int corner = 0; corner < 4; ++corner) {
+      const global_index_t v = vertex_id[box.tets[4 * t + corner]];
+      mesh.tets[4 * tet_id[t] + corner] = v;
+      mesh.vertex_owner[v] = std::min(mesh.vertex_owner[v], owner);
+    }
+  }
+  for (global_index_t v = 0; v < mesh.num_vertices; ++v)
+    if (mesh.unused[v]) mesh.vertex_owner[v] = static_cast<int>(v % size);
+  return mesh;
+}
+
+TEST(FrameWriter, ShuffledNumberingAndUnusedVerticesRoundTripInInputOrder) {
+  TestDirectory dir("shuffled");
+  const int rank = comm_rank();
+  const ShuffledMesh mesh = shuffled_mesh(comm_size());
+  std::vector<global_index_t> owned, unused, tet_ids, tet_vertices;
+  std::vector<double> owned_rest, unused_rest;
+  for (global_index_t v = 0; v < mesh.num_vertices; ++v) {
+    if (mesh.vertex_owner[v] != rank) continue;
+    (mesh.unused[v] ? unused : owned).push_back(v);
+    auto& rest = mesh.unused[v] ? unused_rest : owned_rest;
+    rest.insert(rest.end(), &mesh.positions[3 * v], &mesh.positions[3 * v + 3]);
+  }
+  for (global_index_t t = 0; t < mesh.num_tets; ++t) {
+    if (mesh.tet_owner[t] != rank) continue;
+    tet_ids.push_back(t);
+    tet_vertices.insert(tet_vertices.end(), &mesh.tets[4 * t], &mesh.tets[4 * t + 4]);
+  }
+  if (comm_size() > 1 && !owned.empty()) {
+    // The point of the test: each rank's ids spread over the whole range.
+    EXPECT_LT(owned.front(), mesh.num_vertices / 4);
+    EXPECT_GT(owned.back(), 3 * mesh.num_vertices / 4);
+  }
+
+  const FrameWriterLayout layout{mesh.num_vertices, mesh.num_tets, owned,  tet_ids,
+                                 tet_vertices,      owned_rest,    unused, unused_rest};
+  const std::vector<int> frames = {0, 4};
+  {
+    FrameWriter writer(MPI_COMM_WORLD, dir.path().string(), layout);
+    for (int frame : frames) {
+      std::vector<double> positions, velocities;
+      for (std::size_t k = 0; k < owned.size(); ++k)
+        for (int axis = 0; axis < 3; ++axis) {
+          positions.push_back(owned_rest[3 * k + axis] + frame_position(owned[k], axis, frame));
+          velocities.push_back(frame_velocity(owned[k], axis, frame));
+        }
+      writer.write_frame(frame, frame_time(frame), positions, velocities);
+    }
+  }
+
+  if (rank == 0) {
+    const hid_t file = H5Fopen((dir.path() / "frames.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    EXPECT_EQ(read_dataset<double>(file, "/mesh/rest_positions", H5T_NATIVE_DOUBLE,
+                                   3 * mesh.num_vertices),
+              mesh.positions);
+    EXPECT_EQ(read_dataset<global_index_t>(file, "/mesh/tets", H5T_NATIVE_INT64, 4 * mesh.num_tets),
+              mesh.tets);
+    for (int frame : frames) {
+      const std::string group = "/frames/" + frame_name(frame);
+      const auto positions = read_dataset<double>(file, group + "/positions", H5T_NATIVE_DOUBLE,
+                                                  3 * mesh.num_vertices);
+      const auto displacement = read_dataset<double>(file, group + "/displacement",
+                                                     H5T_NATIVE_DOUBLE, 3 * mesh.num_vertices);
+      const auto velocity =
+          read_dataset<double>(file, group + "/velocity", H5T_NATIVE_DOUBLE, 3 * mesh.num_vertices);
+      ASSERT_EQ(positions.size(), mesh.positions.size());
+      ASSERT_EQ(displacement.size(), mesh.positions.size());
+      ASSERT_EQ(velocity.size(), mesh.positions.size());
+      for (global_index_t v = 0; v < mesh.num_vertices; ++v)
+        for (int axis = 0; axis < 3; ++axis) {
+          const std::size_t at = 3 * v + axis;
+          const double rest = mesh.positions[at];
+          if (mesh.unused[v]) {  // at rest in every frame
+            EXPECT_EQ(positions[at], rest) << group << " unused vertex " << v;
+            EXPECT_EQ(displacement[at], 0.0) << group << " unused vertex " << v;
+            EXPECT_EQ(velocity[at], 0.0) << group << " unused vertex " << v;
+            continue;
+          }
+          const double expected = rest + frame_position(v, axis, frame);
+          EXPECT_EQ(positions[at], expected) << group << " vertex " << v;
+          EXPECT_EQ(displacement[at], expected - rest) << group << " vertex " << v;
+          EXPECT_EQ(velocity[at], frame_velocity(v, axis, frame)) << group << " vertex " << v;
+        }
+    }
+    H5Fclose(file);
+  }
   expect_all_ranks_passed();
 }
 

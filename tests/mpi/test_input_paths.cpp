@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "app/agree.hpp"
 #include "app/mesh_setup.hpp"
 #include "app/partition_command.hpp"
 #include "app/scene_mesh.hpp"
@@ -19,6 +20,7 @@
 #include "gather_positions.hpp"
 #include "io/mesh_h5.hpp"
 #include "mesh_extent.hpp"
+#include "partition/partition_file.hpp"
 #include "shared_vertices.hpp"
 #include "small_scenes.hpp"
 #include "world_rank.hpp"

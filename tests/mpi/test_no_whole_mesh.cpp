@@ -96,8 +96,8 @@ TEST(NoWholeMesh, NoRankAllocatesTheWholeSetUp) {
   MPI_Allreduce(&on_p, &most, 1, MPI_LONG_LONG, MPI_MAX, MPI_COMM_WORLD);
   if (world_rank() == 0) {
     const long long alone = peak_heap_of([&] { set_up_mesh(MPI_COMM_SELF, scene, {}); });
-    std::printf("[ heap ] set-up peak: %lld bytes on one rank, at most %lld on each of %d\n",
-                alone, most, world_size());
+    std::printf("[ heap ] set-up peak: %lld bytes on one rank, at most %lld on each of %d\n", alone,
+                most, world_size());
     // 1/P of it plus the halo's share; a rank that held the whole mesh
     // at any moment would be near 1.
     EXPECT_LT(static_cast<double>(most), 0.5 * static_cast<double>(alone));

@@ -27,7 +27,8 @@ TEST(RankInvariance, SmallHelixTenFramesMatchesOneRank) {
   Simulation<double> distributed(MPI_COMM_WORLD, scene, mesh);
   for (int frame = 1; frame <= kFrames; ++frame) {
     distributed.step();
-    ASSERT_EQ(testing::shared_mismatches(MPI_COMM_WORLD, distributed), 0) << "shared vertices differ between sharers after frame " << frame;
+    ASSERT_EQ(testing::shared_mismatches(MPI_COMM_WORLD, distributed), 0)
+        << "shared vertices differ between sharers after frame " << frame;
   }
   const std::vector<double> got =
       testing::gather_positions(MPI_COMM_WORLD, distributed, mesh.num_vertices());

@@ -1,0 +1,100 @@
+// Any mesh file as this rank's slice. The ASCII formats have no random access
+// by row, so rank 0 parses the whole file with the serial reader (its full
+// validation and file:line messages) and scatters each rank its blocks; the
+// whole mesh lives on rank 0 only, and only until the scatter is done.
+#include <mpi.h>
+
+#include <climits>
+#include <exception>
+#include <vector>
+
+#include "common/block_range.hpp"
+#include "common/error.hpp"
+#include "io/mesh_h5.hpp"
+#include "io/mesh_io_detail.hpp"
+
+namespace descent {
+namespace {
+
+// What rank 0's read threw, sent to every rank and thrown there.
+enum class Failure : int { none = 0, input = 1, other = 2 };
+
+void throw_rank0_failure(MPI_Comm comm, Failure failure, std::string message) {
+  int header[2] = {static_cast<int>(failure), static_cast<int>(message.size())};
+  MPI_Bcast(header, 2, MPI_INT, 0, comm);
+  if (static_cast<Failure>(header[0]) == Failure::none) return;
+  message.resize(header[1]);
+  MPI_Bcast(message.data(), header[1], MPI_CHAR, 0, comm);
+  if (static_cast<Failure>(header[0]) == Failure::input) throw InputError(message);
+  throw Error(message);
+}
+
+// Scatters rows of `cols` values of type T (`mpi_type`) from rank 0's `all`
+// by `blocks`; returns this rank's block. Counts are in rows, which a serial
+// mesh's 32-bit indices keep below INT_MAX.
+template <class T>
+std::vector<T> scatter_rows(MPI_Comm comm, const std::vector<T>& all, int cols,
+                            const BlockRange& blocks, MPI_Datatype mpi_type) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::vector<int> counts(blocks.parts()), offsets(blocks.parts());
+  for (int r = 0; r < blocks.parts(); ++r) {
+    counts[r] = static_cast<int>(blocks.size(r));
+    offsets[r] = static_cast<int>(blocks.begin(r));
+  }
+  MPI_Datatype row;
+  MPI_Type_contiguous(cols, mpi_type, &row);
+  MPI_Type_commit(&row);
+  std::vector<T> mine(static_cast<std::size_t>(cols) * counts[rank]);
+  MPI_Scatterv(all.data(), counts.data(), offsets.data(), row, mine.data(), counts[rank], row, 0,
+               comm);
+  MPI_Type_free(&row);
+  return mine;
+}
+
+MeshSlice scatter_serial_read(MPI_Comm comm, const std::string& path, MeshReadReport* report) {
+  int rank = 0, size = 0;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  Mesh mesh;  // rank 0 only
+  Failure failure = Failure::none;
+  std::string message;
+  if (rank == 0) {
+    try {
+      mesh = read_mesh(path, report);
+    } catch (const InputError& error) {
+      failure = Failure::input;
+      message = error.what();
+    } catch (const std::exception& error) {
+      failure = Failure::other;
+      message = detail::concat(path, ": ", error.what());
+    }
+  }
+  throw_rank0_failure(comm, failure, message);
+
+  global_index_t totals[2] = {mesh.num_tets(), mesh.num_vertices()};
+  MPI_Bcast(totals, 2, MPI_INT64_T, 0, comm);
+  const BlockRange tet_blocks(totals[0], size), vertex_blocks(totals[1], size);
+  MeshSlice slice;
+  slice.source = path;
+  slice.num_global_tets = totals[0];
+  slice.num_global_vertices = totals[1];
+  slice.first_tet = tet_blocks.begin(rank);
+  slice.first_vertex = vertex_blocks.begin(rank);
+  const std::vector<index_t> tets = scatter_rows(comm, mesh.tets, 4, tet_blocks, MPI_INT32_T);
+  slice.positions = scatter_rows(comm, mesh.positions, 3, vertex_blocks, MPI_DOUBLE);
+  mesh = Mesh{};  // frees rank 0's whole copy before the slice grows to 64-bit ids
+  slice.tets.assign(tets.begin(), tets.end());
+  return slice;
+}
+
+}  // namespace
+
+MeshSlice read_mesh_slice(MPI_Comm comm, const std::string& path, MeshReadReport* report) {
+  if (report) *report = MeshReadReport{};
+  const std::string extension = mesh_io_detail::lowercase_extension(path);
+  if (extension == ".h5" || extension == ".hdf5") return read_mesh_h5(comm, path);
+  return scatter_serial_read(comm, path, report);
+}
+
+}  // namespace descent
