@@ -11,6 +11,7 @@
 
 #include "app/agree.hpp"
 #include "app/console.hpp"
+#include "app/memory_report.hpp"
 #include "app/mesh_setup.hpp"
 #include "app/non_finite_stop.hpp"
 #include "app/run_identity.hpp"
@@ -241,10 +242,12 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   FrameWriter frames(comm, out_dir, layout, resume_after);
   StatsWriter stats(comm, out_dir, sim.measurement_names(), resume_after);
   if (!options.restart) frames.write_frame(0, 0.0, sim.owned_positions(), sim.owned_velocities());
+  const std::string setup_memory = peak_memory_report(comm);
   if (talk) {
     const double total = seconds_since_start();
     inform("set-up %.2f s to the first step: mesh %.2f s, solver %.2f s, output %.2f s", total,
            mesh_seconds, solver_seconds, total - mesh_seconds - solver_seconds);
+    inform("after set-up, %s", setup_memory.c_str());
   }
   // The newest frame in frames.h5 (-1: none known), so a stop can add the
   // last good one without writing a frame twice.
@@ -373,6 +376,7 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
         "%d of %d steps rolled back trial states of non-finite energy (column "
         "`nonfinite_rollbacks` in stats.csv)",
         nonfinite_steps, frames_run);
+  const std::string run_memory = peak_memory_report(comm);
   if (talk && frames_run == 0)
     inform("nothing to run: the run already has all %d frames (raise time.frames to go on)",
            scene.time.frames);
@@ -383,6 +387,7 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
             : 0.0;
     inform("%d frames in %.1f s, %.1f ms/frame, %.1f ns per tet-iteration", frames_run,
            total_ms / 1e3, total_ms / frames_run, ns_per_tet_iteration);
+    inform("%s", run_memory.c_str());
     const std::string timing = sim.stepper_timing_report();
     if (!timing.empty()) inform("%s", timing.c_str());
     inform("wrote %s, %s and %s", frames.h5_path().c_str(), frames.xdmf_path().c_str(),

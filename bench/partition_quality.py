@@ -1,0 +1,114 @@
+#!/usr/bin/env python3
+"""Partition quality of PT-Scotch against METIS, the reference.
+
+For each mesh and part count, `descent partition` runs with
+partition.method = "metis" (gathered on rank 0) and "ptscotch" (in
+parallel), on the same ranks, and its own report gives the faces between
+parts (edge cut of the dual graph), the imbalance (most tets in a part /
+mean) and the time. Meshes: the double helix at about 4M tets and the real
+meshes of ../shared/meshes (skipped when absent). Target of issue 12:
+PT-Scotch's cut within 10% of METIS's.
+
+  python3 bench/partition_quality.py --out bench/results/partition_quality/README.md
+"""
+import argparse
+import os
+import platform
+import re
+import subprocess
+import tempfile
+from datetime import datetime, timezone
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+SHARED = ROOT.parent / "shared" / "meshes"
+FILES = ["armadillo_10k.node", "armadillo_13k_ipc.msh", "bunny_ipc.msh", "dragon_16k.mesh"]
+REPORT = re.compile(r"partition \((METIS|PT-Scotch)\) on \d+ rank\(s\) in ([0-9.]+) s: (\d+) parts, "
+                    r"imbalance ([0-9.]+), cut faces (\d+)")
+
+
+def cpu_model():
+    for line in Path("/proc/cpuinfo").read_text().splitlines():
+        if line.startswith("model name"):
+            return line.split(":", 1)[1].strip()
+    return platform.processor() or "unknown"
+
+
+def scenes(scratch):
+    """(name, scene file) of every mesh to partition."""
+    helix = (ROOT / "jobs/helix.toml").read_text()
+    helix = re.sub(r'^preset = "82k".*$', "resolution = 11.35", helix, flags=re.M)
+    path = Path(scratch) / "helix_4m.toml"
+    path.write_text(helix)
+    found = [("helix 4M (resolution 11.35)", path)]
+    for name in FILES:
+        mesh = SHARED / name
+        if not mesh.exists():
+            print(f"skipped {name}: {mesh} is absent")
+            continue
+        path = Path(scratch) / (name + ".toml")
+        path.write_text(f'[mesh]\nfile = "{mesh}"\n')
+        found.append((name, path))
+    return found
+
+
+def partition(binary, ranks, scene, parts, method):
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
+               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", str(binary), "partition", str(scene),
+           "-n", str(parts), "--set", f'partition.method="{method}"']
+    text = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
+    _, seconds, _, imbalance, cut = REPORT.search(text).groups()
+    return float(seconds), float(imbalance), int(cut), " ".join(cmd)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--binary", default=str(ROOT / "build/src/app/descent"))
+    parser.add_argument("--ranks", type=int, default=2, help="ranks that run the partitioner")
+    parser.add_argument("--parts", nargs="+", type=int, default=[2, 4, 8, 16, 64])
+    parser.add_argument("--out", default="-")
+    args = parser.parse_args()
+
+    lines = [
+        "# Partition quality: PT-Scotch against METIS",
+        "",
+        f"- date: {datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC",
+        f"- machine: {cpu_model()}, {os.cpu_count()} logical cores, no GPU",
+        f"- each partition computed on {args.ranks} ranks by `descent partition` (METIS: the "
+        "dual graph gathered on rank 0, METIS_PartGraphKway, seed 1; PT-Scotch: "
+        "SCOTCH_dgraphPart, default strategy, 3% imbalance, one thread, deterministic); "
+        "cut = faces whose two tets lie in different parts; times are the partition step "
+        "alone on a shared machine (load average "
+        f"{os.getloadavg()[0]:.1f} at the start), for orientation only",
+        "",
+        "| mesh | parts | METIS cut | PT-Scotch cut | ratio | METIS imbalance | "
+        "PT-Scotch imbalance | METIS s | PT-Scotch s |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    commands = []
+    worst = 0.0
+    with tempfile.TemporaryDirectory() as scratch:
+        for name, scene in scenes(scratch):
+            for parts in args.parts:
+                metis = partition(args.binary, args.ranks, scene, parts, "metis")
+                scotch = partition(args.binary, args.ranks, scene, parts, "ptscotch")
+                ratio = scotch[2] / metis[2]
+                worst = max(worst, ratio)
+                lines.append(f"| {name} | {parts} | {metis[2]} | {scotch[2]} | {ratio:.3f} | "
+                             f"{metis[1]:.3f} | {scotch[1]:.3f} | {metis[0]:.2f} | {scotch[0]:.2f} |")
+                commands += [metis[3], scotch[3]]
+                print(lines[-1], flush=True)
+    lines += ["", f"Largest ratio of cuts: {worst:.3f} (target <= 1.10: "
+              f"{'met' if worst <= 1.10 else 'NOT met'}).", "", "## Commands", ""]
+    lines += [f"- `{c}`" for c in commands]
+    text = "\n".join(lines) + "\n"
+    if args.out == "-":
+        print(text)
+    else:
+        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.out).write_text(text)
+
+
+if __name__ == "__main__":
+    main()
