@@ -13,7 +13,8 @@
 #
 # Writes bench/results/frame_write/frame_write.log (appends) and
 # frame_write.csv (one line per run: writer, numbering, vertices, ranks,
-# frames, open seconds, median frame seconds).
+# frames, open seconds, median frame seconds, scratch directory: a disk, or
+# /dev/shm to take the disk out of the figure).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
@@ -28,7 +29,7 @@ out=$root/bench/results/frame_write
 mkdir -p "$out" "$scratch"
 log=$out/frame_write.log
 csv=$out/frame_write.csv
-[[ -f $csv ]] || echo "writer,numbering,vertices,ranks,frames,open_s,median_frame_s" >"$csv"
+[[ -f $csv ]] || echo "writer,numbering,vertices,ranks,frames,open_s,median_frame_s,scratch" >"$csv"
 
 cmake --build "$build" --target frame_write_bench -j2 >/dev/null
 new_bench=$build/tests/mpi/frame_write_bench
@@ -46,7 +47,8 @@ fi
 
 {
   echo "== $(date -Is) $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2) x $(nproc) cores"
-  echo "new: $(git -C "$root" rev-parse --short HEAD) old: $old_commit; load: $(uptime)"
+  echo "new: $(git -C "$root" rev-parse --short HEAD) old: $old_commit; scratch: $scratch"
+  echo "load: $(uptime)"
 } >>"$log"
 for run in $(seq "$runs"); do
   for vertices in $sizes; do
@@ -59,7 +61,7 @@ for run in $(seq "$runs"); do
         echo "-- run $run: $writer $numbering $vertices; load: $(cut -d' ' -f1-3 /proc/loadavg)" >>"$log"
         OMP_NUM_THREADS=1 mpiexec -n 2 "$bench" --vertices "$vertices" --numbering "$numbering" \
           --frames "$frames" --out "$dir" | tee -a "$log" | grep '^writer=' |
-          sed -E 's/[a-z_]+=//g; s/ /,/g' >>"$csv"
+          sed -E "s/[a-z_]+=//g; s/ /,/g; s|\$|,$scratch|" >>"$csv"
         rm -rf "$dir"
       done
     done

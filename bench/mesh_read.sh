@@ -8,9 +8,9 @@
 #   bench/mesh_read.sh [BUILD_DIR]          # default build
 #   RUNS=3 RESOLUTION=11.35 RANKS=2 SCRATCH=/tmp/descent_mesh_read bench/mesh_read.sh
 #
-# The two files are written once under SCRATCH (kept for later runs; the
-# reads then find them in the page cache, as a job that just copied them
-# would). Appends to bench/results/mesh_read/mesh_read.log.
+# The two files are written once under SCRATCH and kept for later runs; no
+# cache is dropped (a shared machine), so reads may find them in the page
+# cache. Appends to bench/results/mesh_read/mesh_read.log.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}

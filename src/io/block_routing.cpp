@@ -3,8 +3,6 @@
 // block rows and counted to check that the ranks' rows cover each id once.
 #include "io/block_routing.hpp"
 
-#include <algorithm>
-
 #include "comm/exchange.hpp"
 #include "comm/mpi_check.hpp"
 

@@ -4,7 +4,6 @@
 // whole mesh lives on rank 0 only, and only until the scatter is done.
 #include <mpi.h>
 
-#include <climits>
 #include <exception>
 #include <vector>
 
