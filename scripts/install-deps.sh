@@ -5,7 +5,8 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config procps   # procps: pkill in the restart test
   openmpi-bin libopenmpi-dev      # MPI
-  libmetis-dev                    # partitioning
+  libmetis-dev                    # partitioning: METIS, the quality reference
+  libptscotch-dev                 # partitioning in parallel (optional in the build)
   libeigen3-dev
   libhdf5-openmpi-dev             # parallel HDF5 for the frames
   libgtest-dev

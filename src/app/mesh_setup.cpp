@@ -36,8 +36,7 @@ DistributedMesh set_up_mesh(MPI_Comm comm, const Scene& scene, const MeshSetupOp
     if (rank == 0)
       for (const std::string& w : report.warnings) warn("%s", w.c_str());
     read_seconds = seconds_since(start);
-    mesh = agree(comm,
-                 [&] { return distribute_mesh(comm, std::move(slice), scene.partition.method); });
+    mesh = agree(comm, [&] { return distribute_mesh(comm, std::move(slice), scene.partition); });
   }
   const double partition_seconds = seconds_since(start) - read_seconds;
   const LocalMesh& local = mesh.local;

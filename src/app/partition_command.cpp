@@ -54,13 +54,13 @@ int run_partition(MPI_Comm comm, const Scene& scene, const PartitionOptions& opt
   const PartitionMethod method = agree(
       comm, [&] { return choose_partition_method(scene.partition.method, slice.num_global_tets); });
   DualGraph graph = agree(comm, [&] { return build_dual_graph(comm, slice); });
-  const std::vector<int> part =
-      agree(comm, [&] { return partition_dual_graph(comm, graph, parts, method); });
-  const global_index_t cut = count_cut_faces(comm, graph, part);
+  const GraphPartition partition = agree(comm, [&] {
+    return partition_dual_graph(comm, graph, parts, method, scene.partition.tries);
+  });
   const std::vector<std::uint8_t> surface_faces = std::move(graph.surface_faces);
   graph = {};
   const std::vector<PartTets> held =
-      agree(comm, [&] { return migrate_tets(comm, slice, surface_faces, part, parts); });
+      agree(comm, [&] { return migrate_tets(comm, slice, surface_faces, partition.part, parts); });
 
   // Each part's local mesh, for its quality and to validate it (flat tets)
   // as a run would.
@@ -77,7 +77,7 @@ int run_partition(MPI_Comm comm, const Scene& scene, const PartitionOptions& opt
       error = e.what();
     }
     throw_if_any_failed(comm, error);
-    return partition_quality(comm, locals, parts, cut);
+    return partition_quality(comm, locals, parts, partition.cut_faces);
   });
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

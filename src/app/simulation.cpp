@@ -53,7 +53,7 @@ Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, DistributedMesh 
 template <class Real>
 Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
                              const BackendChoice& backend)
-    : Simulation(comm, scene, distribute_mesh(comm, mesh, scene.partition.method), backend) {}
+    : Simulation(comm, scene, distribute_mesh(comm, mesh, scene.partition), backend) {}
 
 template <class Real>
 void Simulation<Real>::set_positions(const std::vector<double>& global_xyz) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "meshes/generators.hpp"
+#include "partition/partition_spec.hpp"
 
 namespace descent {
 
@@ -162,13 +163,6 @@ struct SolverSpec {
   double linear_cg_tolerance = 1e-10;
   int polar_sweeps = 4;             // 2x2 Jacobi sweeps of the polar decomposition, at most
   double rayleigh_stiffness = 0.0;  // beta (s): stiffness-proportional Rayleigh damping
-};
-
-// How the mesh is split across ranks (src/partition/graph_partition.hpp):
-// "auto" (METIS below 500K tets, PT-Scotch above), "metis" (on rank 0, the
-// quality reference) or "ptscotch" (in parallel).
-struct PartitionSpec {
-  std::string method = "auto";
 };
 
 struct OutputSpec {

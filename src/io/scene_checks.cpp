@@ -355,6 +355,8 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require(doc, solver.damping >= 0, "solver.damping", ">= 0", solver.damping);
 
   require_one_of(doc, "partition.method", scene.partition.method, {"auto", "metis", "ptscotch"});
+  require(doc, scene.partition.tries >= 1 && scene.partition.tries <= 100, "partition.tries",
+          "in [1, 100]", scene.partition.tries);
 
   if (scene.output.dir.empty()) {
     throw InputError(detail::concat(doc.where("output.dir"), ": output.dir must not be empty"));

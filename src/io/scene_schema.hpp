@@ -89,6 +89,7 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("solver.rayleigh_stiffness", solver.rayleigh_stiffness);
 
   visit("partition.method", scene.partition.method);
+  visit("partition.tries", scene.partition.tries);
 
   visit("output.dir", scene.output.dir);
   visit("output.every", scene.output.every);

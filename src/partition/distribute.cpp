@@ -243,18 +243,18 @@ void assemble_local_mesh(MPI_Comm comm, const PartTets& tets, global_index_t num
   mesh.unused_vertices = counts[1];
 }
 
-DistributedMesh distribute_mesh(MPI_Comm comm, MeshSlice slice, const std::string& method_name) {
+DistributedMesh distribute_mesh(MPI_Comm comm, MeshSlice slice, const PartitionSpec& spec) {
   const int size = comm_size(comm);
   DistributedMesh mesh;
   mesh.source = slice.source;
-  mesh.method = choose_partition_method(method_name, slice.num_global_tets);
+  mesh.method = choose_partition_method(spec.method, slice.num_global_tets);
   const global_index_t num_vertices = slice.num_global_vertices, num_tets = slice.num_global_tets;
 
   Stopwatch clock;
   DualGraph graph = build_dual_graph(comm, slice);
   mesh.seconds.dual_graph = clock.lap();
-  const std::vector<int> part = partition_dual_graph(comm, graph, size, mesh.method);
-  const global_index_t cut_faces = count_cut_faces(comm, graph, part);
+  const GraphPartition partition = partition_dual_graph(comm, graph, size, mesh.method, spec.tries);
+  const std::vector<int>& part = partition.part;
   mesh.seconds.partition = clock.lap();
   const std::vector<std::uint8_t> surface_faces = std::move(graph.surface_faces);
   graph = {};
@@ -265,12 +265,12 @@ DistributedMesh distribute_mesh(MPI_Comm comm, MeshSlice slice, const std::strin
                       slice.positions, mesh);
   slice.positions = {};
   tets = {};
-  mesh.quality = partition_quality(comm, std::span(&mesh.local, 1), size, cut_faces);
+  mesh.quality = partition_quality(comm, std::span(&mesh.local, 1), size, partition.cut_faces);
   return mesh;
 }
 
-DistributedMesh distribute_mesh(MPI_Comm comm, const Mesh& mesh, const std::string& method_name) {
-  return distribute_mesh(comm, slice_of(mesh, comm_rank(comm), comm_size(comm)), method_name);
+DistributedMesh distribute_mesh(MPI_Comm comm, const Mesh& mesh, const PartitionSpec& spec) {
+  return distribute_mesh(comm, slice_of(mesh, comm_rank(comm), comm_size(comm)), spec);
 }
 
 }  // namespace descent

@@ -19,6 +19,7 @@
 #include "partition/graph_partition.hpp"
 #include "partition/local_mesh.hpp"
 #include "partition/partition_quality.hpp"
+#include "partition/partition_spec.hpp"
 
 namespace descent {
 
@@ -106,14 +107,14 @@ void assemble_local_mesh(MPI_Comm comm, const PartTets& tets, global_index_t num
                          global_index_t num_tets, global_index_t first_vertex,
                          std::span<const double> block_positions, DistributedMesh& mesh);
 
-// Collective: the whole set-up from slices, one part per rank of comm.
-// method_name: "auto", "metis" or "ptscotch" (choose_partition_method).
+// Collective: the whole set-up from slices, one part per rank of comm,
+// partitioned as `spec` says (choose_partition_method, partition_dual_graph).
 // The slice is taken by value: its arrays are freed as soon as their data
 // has moved on.
-DistributedMesh distribute_mesh(MPI_Comm comm, MeshSlice slice, const std::string& method_name);
+DistributedMesh distribute_mesh(MPI_Comm comm, MeshSlice slice, const PartitionSpec& spec);
 
 // The same from a whole mesh every rank holds (tests, small tools): each
 // rank takes its slice of it.
-DistributedMesh distribute_mesh(MPI_Comm comm, const Mesh& mesh, const std::string& method_name);
+DistributedMesh distribute_mesh(MPI_Comm comm, const Mesh& mesh, const PartitionSpec& spec);
 
 }  // namespace descent

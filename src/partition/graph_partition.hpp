@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "partition/dual_graph.hpp"
+#include "partition/partition_quality.hpp"
 
 namespace descent {
 
@@ -31,15 +32,24 @@ bool have_ptscotch();
 PartitionMethod choose_partition_method(const std::string& name, global_index_t num_tets);
 const char* to_string(PartitionMethod method);
 
-// Collective: the part in [0, nparts) of each tet of this rank's slice of
-// the graph, the same on every run for the same mesh, rank count and
-// nparts. Every part gets at least one tet, or a PartitionError says which
-// did not.
-std::vector<int> partition_dual_graph(MPI_Comm comm, const DualGraph& graph, int nparts,
-                                      PartitionMethod method);
+// The part in [0, nparts) of each tet of this rank's slice of the graph,
+// and the faces between parts (over all ranks).
+struct GraphPartition {
+  std::vector<int> part;
+  global_index_t cut_faces = 0;
+};
 
-// The two partitioners behind it, for nparts >= 2.
-std::vector<int> partition_with_metis(MPI_Comm comm, const DualGraph& graph, int nparts);
-std::vector<int> partition_with_ptscotch(MPI_Comm comm, const DualGraph& graph, int nparts);
+// Collective: the best of `tries` partitions (the fewest faces between
+// parts; METIS computes its tries itself, METIS_OPTION_NCUTS), the same on
+// every run for the same mesh, rank count, nparts and tries. Every part
+// gets at least one tet, or a PartitionError says which did not.
+GraphPartition partition_dual_graph(MPI_Comm comm, const DualGraph& graph, int nparts,
+                                    PartitionMethod method, int tries);
+
+// The two partitioners behind it, for nparts >= 2. `seed` picks PT-Scotch's
+// random sequence (its seeds 2k and 2k + 1 agree: pass even ones).
+std::vector<int> partition_with_metis(MPI_Comm comm, const DualGraph& graph, int nparts, int tries);
+std::vector<int> partition_with_ptscotch(MPI_Comm comm, const DualGraph& graph, int nparts,
+                                         int seed);
 
 }  // namespace descent

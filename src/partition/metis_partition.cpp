@@ -47,7 +47,8 @@ Layout gather_layout(MPI_Comm comm, global_index_t mine) {
 
 }  // namespace
 
-std::vector<int> partition_with_metis(MPI_Comm comm, const DualGraph& graph, int nparts) {
+std::vector<int> partition_with_metis(MPI_Comm comm, const DualGraph& graph, int nparts,
+                                      int tries) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   // idx_t is METIS's index type (32-bit in Debian's libmetis): the whole
@@ -92,6 +93,7 @@ std::vector<int> partition_with_metis(MPI_Comm comm, const DualGraph& graph, int
     idx_t options[METIS_NOPTIONS];
     METIS_SetDefaultOptions(options);
     options[METIS_OPTION_SEED] = 1;  // the same partition on every run
+    options[METIS_OPTION_NCUTS] = tries;
     status = METIS_PartGraphKway(&num_vertices, &constraints, xadj.data(), adjncy.data(), nullptr,
                                  nullptr, nullptr, &parts, nullptr, nullptr, options, &cut,
                                  all_parts.data());

@@ -6,7 +6,7 @@ namespace descent {
 
 bool have_ptscotch() { return false; }
 
-std::vector<int> partition_with_ptscotch(MPI_Comm, const DualGraph&, int) {
+std::vector<int> partition_with_ptscotch(MPI_Comm, const DualGraph&, int, int) {
   throw PartitionError(
       "this descent was built without PT-Scotch (Debian: libptscotch-dev); use "
       "partition.method = \"metis\"");

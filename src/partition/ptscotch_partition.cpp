@@ -1,7 +1,7 @@
 // PT-Scotch on the distributed dual graph: each rank hands over its slice's
 // CSR rows as they are. One thread per rank (the ranks already fill the
-// cores) and Scotch's deterministic mode with a fixed seed, so that a run and
-// its restart get the same partition.
+// cores) and Scotch's deterministic mode with the seed given, so that a run
+// and its restart get the same partition.
 // Scotch's headers use FILE, int64_t and MPI without including them.
 // clang-format off
 #include <cstdint>
@@ -67,7 +67,8 @@ struct ScotchSession {
 
 bool have_ptscotch() { return true; }
 
-std::vector<int> partition_with_ptscotch(MPI_Comm comm, const DualGraph& graph, int nparts) {
+std::vector<int> partition_with_ptscotch(MPI_Comm comm, const DualGraph& graph, int nparts,
+                                         int seed) {
   global_index_t arcs = static_cast<global_index_t>(graph.neighbours.size());
   DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, &arcs, 1, MPI_INT64_T, MPI_SUM, comm));
   constexpr global_index_t kNumMax = std::numeric_limits<SCOTCH_Num>::max();
@@ -100,7 +101,7 @@ std::vector<int> partition_with_ptscotch(MPI_Comm comm, const DualGraph& graph, 
                "SCOTCH_contextOptionSetNum(DETERMINISTIC)");
   check_scotch(SCOTCH_contextOptionSetNum(&s.context, SCOTCH_OPTIONNUMRANDOMFIXEDSEED, 1),
                "SCOTCH_contextOptionSetNum(RANDOMFIXEDSEED)");
-  SCOTCH_contextRandomSeed(&s.context, 1);
+  SCOTCH_contextRandomSeed(&s.context, seed);
   check_scotch(SCOTCH_contextThreadSpawn(&s.context, 1, nullptr), "SCOTCH_contextThreadSpawn");
   check_scotch(SCOTCH_dgraphInit(&s.bound, comm), "SCOTCH_dgraphInit");
   s.bound_ready = true;

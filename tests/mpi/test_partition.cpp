@@ -62,7 +62,14 @@ std::vector<std::string> methods() {
   return m;
 }
 
-class PartitionTest : public ::testing::TestWithParam<std::string> {};
+class PartitionTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  PartitionSpec spec() const {
+    PartitionSpec s;
+    s.method = GetParam();
+    return s;
+  }
+};
 
 TEST(DualGraph, EqualsTheSerialFaceAdjacency) {
   for (const Mesh& mesh : {small_box(), small_helix()}) {
@@ -119,7 +126,7 @@ TEST(DualGraph, RefusesTwoTetsWithTheSameVertices) {
 
 TEST_P(PartitionTest, EveryTetOnExactlyOneRankAndPartsNonEmpty) {
   for (const Mesh& mesh : {small_box(), small_helix()}) {
-    const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, mesh, GetParam());
+    const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, mesh, spec());
     std::vector<int> count(mesh.num_tets(), 0);
     for (global_index_t t : d.local.global_tet) ++count[t];
     MPI_Allreduce(MPI_IN_PLACE, count.data(), mesh.num_tets(), MPI_INT, MPI_SUM, MPI_COMM_WORLD);
@@ -134,7 +141,7 @@ TEST_P(PartitionTest, EveryTetOnExactlyOneRankAndPartsNonEmpty) {
 
 TEST_P(PartitionTest, EveryVertexOwnedByExactlyOneRankAndOrderedAsDocumented) {
   const Mesh mesh = small_helix();
-  const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, mesh, GetParam());
+  const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, mesh, spec());
   const LocalMesh& l = d.local;
   std::vector<int> owners(mesh.num_vertices(), 0);
   for (index_t v = 0; v < l.num_owned; ++v) ++owners[l.global_vertex[v]];
@@ -152,7 +159,7 @@ TEST_P(PartitionTest, EveryVertexOwnedByExactlyOneRankAndOrderedAsDocumented) {
 
 TEST_P(PartitionTest, LocalTetsMatchTheMeshAndBoundaryTetsComeFirst) {
   const Mesh mesh = small_helix();
-  const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, mesh, GetParam());
+  const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, mesh, spec());
   const LocalMesh& l = d.local;
   const auto faces = serial_faces(mesh);
   EXPECT_EQ(d.reoriented_tets, 0) << "the generator's tets are positive";
@@ -180,7 +187,7 @@ TEST_P(PartitionTest, LocalTetsMatchTheMeshAndBoundaryTetsComeFirst) {
 }
 
 TEST_P(PartitionTest, SharedListsAreSymmetricBetweenNeighbours) {
-  const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, small_box(), GetParam());
+  const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, small_box(), spec());
   const LocalMesh& l = d.local;
   std::vector<std::vector<global_index_t>> mine(l.neighbours.size()), theirs(l.neighbours.size());
   std::vector<MPI_Request> requests;
@@ -210,7 +217,7 @@ TEST_P(PartitionTest, SharedListsAreSymmetricBetweenNeighbours) {
 
 TEST_P(PartitionTest, CutFacesEqualASerialCount) {
   const Mesh mesh = small_helix();
-  const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, mesh, GetParam());
+  const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, mesh, spec());
   std::vector<int> part(mesh.num_tets(), 0);
   for (global_index_t t : d.local.global_tet) part[t] = world_rank();
   MPI_Allreduce(MPI_IN_PLACE, part.data(), mesh.num_tets(), MPI_INT, MPI_SUM, MPI_COMM_WORLD);
@@ -225,8 +232,8 @@ TEST_P(PartitionTest, CutFacesEqualASerialCount) {
 
 TEST_P(PartitionTest, TheSamePartitionEveryTime) {
   const Mesh mesh = small_helix();
-  const DistributedMesh first = distribute_mesh(MPI_COMM_WORLD, mesh, GetParam());
-  const DistributedMesh again = distribute_mesh(MPI_COMM_WORLD, mesh, GetParam());
+  const DistributedMesh first = distribute_mesh(MPI_COMM_WORLD, mesh, spec());
+  const DistributedMesh again = distribute_mesh(MPI_COMM_WORLD, mesh, spec());
   EXPECT_EQ(first.local.global_tet, again.local.global_tet);
 }
 
@@ -235,7 +242,7 @@ TEST_P(PartitionTest, FlipsNegativeTetsAndKeepsUnusedVertices) {
   for (index_t t = 0; t < mesh.num_tets(); t += 3)
     std::swap(mesh.tets[4 * t], mesh.tets[4 * t + 1]);
   mesh.positions.insert(mesh.positions.end(), {9.0, 9.0, 9.0});  // used by no tet
-  const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, mesh, GetParam());
+  const DistributedMesh d = distribute_mesh(MPI_COMM_WORLD, mesh, spec());
   EXPECT_EQ(d.reoriented_tets, (mesh.num_tets() + 2) / 3);
   EXPECT_EQ(d.unused_vertices, 1);
   const bool holds_last =
@@ -272,7 +279,7 @@ TEST_P(PartitionTest, RefusesAFlatTetOnEveryRank) {
   std::string message;
   bool peer = false;
   try {
-    distribute_mesh(MPI_COMM_WORLD, mesh, GetParam());
+    distribute_mesh(MPI_COMM_WORLD, mesh, spec());
   } catch (const InputError& e) {
     message = e.what();
   } catch (const PeerFailure&) {
@@ -290,7 +297,7 @@ TEST_P(PartitionTest, RefusesMorePartsThanTets) {
   const DualGraph graph =
       build_dual_graph(MPI_COMM_WORLD, slice_of(mesh, world_rank(), world_size()));
   const PartitionMethod method = choose_partition_method(GetParam(), mesh.num_tets());
-  EXPECT_THROW(partition_dual_graph(MPI_COMM_WORLD, graph, 8, method), PartitionError);
+  EXPECT_THROW(partition_dual_graph(MPI_COMM_WORLD, graph, 8, method, 1), PartitionError);
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, PartitionTest, ::testing::ValuesIn(methods()),

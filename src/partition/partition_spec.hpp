@@ -1,0 +1,18 @@
+#pragma once
+// How the mesh is split across ranks: scene keys partition.method and
+// partition.tries (src/partition/graph_partition.hpp says what they do).
+#include <string>
+
+namespace descent {
+
+struct PartitionSpec {
+  // "auto" (METIS below 500K tets, PT-Scotch above), "metis" (on rank 0, the
+  // quality reference) or "ptscotch" (in parallel).
+  std::string method = "auto";
+  // Partitions computed, from different seeds, keeping the one with the
+  // fewest faces between parts: a single partition's cut varies by 10-40%
+  // from seed to seed (bench/results/partition_quality).
+  int tries = 3;
+};
+
+}  // namespace descent
