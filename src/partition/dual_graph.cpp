@@ -38,9 +38,14 @@ Inbox<FaceRecord> send_faces_to_matchers(MPI_Comm comm, const MeshSlice& slice,
     std::sort(v.begin(), v.end());
     return FaceRecord{v[0], v[1], v[2], 4 * (slice.first_tet + t) + f};
   };
+  // Counting needs only each face's smallest vertex.
+  auto smallest = [&](index_t t, int f) {
+    const global_index_t* v = &slice.tets[4 * static_cast<std::size_t>(t)];
+    return std::min({v[kTetFaces[f][0]], v[kTetFaces[f][1]], v[kTetFaces[f][2]]});
+  };
   Outbox<FaceRecord> outbox(vertex_blocks.parts());
   for (index_t t = 0; t < slice.num_tets(); ++t)
-    for (int f = 0; f < 4; ++f) outbox.count(vertex_blocks.owner(face_of(t, f).a));
+    for (int f = 0; f < 4; ++f) outbox.count(vertex_blocks.owner(smallest(t, f)));
   outbox.allocate();
   for (index_t t = 0; t < slice.num_tets(); ++t)
     for (int f = 0; f < 4; ++f) {
