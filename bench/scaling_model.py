@@ -12,7 +12,8 @@ cannot be measured here; this model predicts it from what can be:
   (vertex, neighbour) pairs and shared vertices as the partitioner reported
   them, and its boundary tets counted from the partition file;
 - the CPU cost of one iteration per tet on one core, MEASURED on this machine
-  at the part sizes (bench/scaling_compute_cost.py);
+  at four part sizes (bench/scaling_compute_cost.py; by default the median
+  of all its samples, see CpuCost);
 - STATED assumptions for everything not measurable here: the network, the
   GPU's cost per tet-iteration, the host-device copies. Each is an option
   below with its default, and every output names the values used.
@@ -58,8 +59,8 @@ is computed (eager-size messages, or an MPI with asynchronous progress);
 where it does not, the no-overlap time is the one to read.
 
 The measured cost per tet-iteration c already contains the vertex update
-and the energy evaluations of the checks (it is the step time divided by
-tets x iterations), so those scale with the tets.
+and the energy evaluations of the checks (it is the CPU time of whole steps
+divided by tets x iterations), so those scale with the tets.
 
 Strong scaling: the 10.36M-tet helix on P ranks, efficiency T(1) / (P T(P)).
 Weak scaling: N tets per rank (one CPU case, one GPU case). Each part of the
