@@ -13,6 +13,7 @@ packages=(
   libtomlplusplus-dev             # scene files
   libcli11-dev                    # command line
   slurm-wlm munge python3-h5py    # tests/slurm: the job scripts under a real Slurm
+  python3-matplotlib              # tests/slurm: the scaling table job's plot (tools/scaling_table.py)
   python3-meshio                  # tests/cli: frames.xdmf read as a time series
   petsc-dev                       # optional: Newton with AMG, TAO's methods (docs/petsc.md)
 )

@@ -89,6 +89,19 @@ run_forwarding_signals() {
   return "$status"
 }
 
+# An array element's output directory $1, recorded where the array's other
+# elements record theirs: runs/array-ARRAYJOBID/TASKID holds its absolute
+# path. jobs/slurm/scaling_table.sbatch tabulates exactly the directories of
+# one array from there, whatever --array, --job-name or scene it ran with.
+# Rewritten, not appended, so a requeued element leaves one line.
+record_array_element() {
+  [ -n "${SLURM_ARRAY_JOB_ID:-}" ] || return 0
+  local list=runs/array-$SLURM_ARRAY_JOB_ID folder=$1
+  [ "${folder#/}" != "$folder" ] || folder=$PWD/$folder
+  mkdir -p "$list"
+  echo "$folder" >"$list/${SLURM_ARRAY_TASK_ID:?}"
+}
+
 # A batch job's step: descent on $1 ranks of SLURM_CPUS_PER_TASK cores each,
 # writing to directory $2, with `descent run` arguments "${@:3}" (the scene
 # first). A run stopped by USR1 (the time limit is near, or `scancel

@@ -9,6 +9,9 @@
 #     --signal=B:USR1@120 sends before the time limit) requeues itself, the
 #     requeued job continues with --restart, and its frames are bitwise those
 #     of an uninterrupted 2-rank run.
+#  3. jobs/slurm/scaling_study.sh submits a weak-scaling array (1 and 2 ranks)
+#     and a job that waits for all of it, requeued elements included, and
+#     writes one table and plot (tools/scaling_table.py) of both elements.
 # SKIPs (exit 0) where Slurm cannot run here: not root, or no Slurm or munge.
 #   tests/slurm/slurm_job_test.sh BUILD_DIR
 set -euo pipefail
@@ -31,6 +34,7 @@ for command in munged slurmctld slurmd sbatch squeue scontrol scancel; do
 done
 python=/usr/bin/python3
 "$python" -c 'import h5py' 2>/dev/null || skip "no h5py for $python (Debian: python3-h5py)"
+"$python" -c 'import matplotlib' 2>/dev/null || skip "no matplotlib for $python (Debian: python3-matplotlib)"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 
 tmp=$(mktemp -d /tmp/descent-slurm.XXXXXX)
@@ -224,3 +228,58 @@ grep -E "^descent( job)?: .*(stopped|restart|requeued)" "$tmp/stopped.log"
 compare_frames bitwise "$(out_of stopped)/frames.h5" "$tmp/direct-np2/frames.h5" ||
   fail "the requeued job's last frame is not the uninterrupted run's"
 echo "slurm_job_test: PASS: the job stopped by USR1 requeued itself and ended bitwise where an uninterrupted run ends ($restarts requeue(s), ${SECONDS} s)"
+
+# 3. A scaling study as jobs/slurm/scaling_study.sh submits it: a weak-scaling
+# array over 1 and 2 ranks and a job that waits for the whole array
+# (afterany) and writes one table and plot from both elements' stats.csv.
+# The 2-rank element is stopped mid-run with USR1 and requeues itself: the
+# table job must wait for the requeued element, not start when it first
+# stops, and tabulate all its frames.
+frames=100
+study_log=$tmp/study.log
+(cd "$tmp/work" && DESCENT_ROOT=$root DESCENT_BIN=$bin \
+  "$root/jobs/slurm/scaling_study.sh" weak --array=1,2 --ntasks=2 --time=10 \
+  --output="$tmp/study-%A_%a.log" -- 1.2 --set "time.frames=$frames" \
+  --set output.checkpoint_every=1000) >"$study_log"
+cat "$study_log"
+read -r array table < <(sed -n 's/.*array job \([0-9]*\), table job \([0-9]*\).*/\1 \2/p' "$study_log")
+if [ -z "$array" ] || [ -z "$table" ]; then fail "scaling_study.sh printed no job ids"; fi
+jobs+=("$array" "$table")
+[ "$(job_field "$table" Dependency)" != "(null)" ] || fail "table job $table has no dependency"
+element=${array}_2
+stats=$tmp/work/runs/descent-weak-r1.2-np2/stats.csv
+for _ in $(seq 900); do
+  [ -f "$stats" ] && [ "$(wc -l <"$stats")" -gt 3 ] && break
+  sleep 0.2
+done
+[ "$(job_field "$element" JobState)" = RUNNING ] || fail "element $element was not running frames to stop"
+[ "$(job_field "$table" JobState)" = PENDING ] || fail "table job $table did not wait for the array"
+scancel --signal=USR1 --batch "$element"
+echo "slurm_job_test: sent USR1 to element $element after frame $(($(wc -l <"$stats") - 1)) (${SECONDS} s)"
+# While the element is requeued and runs again the table job must pend.
+# The table's state is read first: the element ends before the table starts.
+for _ in $(seq 900); do
+  table_state=$(job_field "$table" JobState)
+  state=$(job_field "$element" JobState)
+  [ "$table_state" = PENDING ] || [ "$state" = COMPLETED ] ||
+    fail "table job $table was $table_state while element $element was $state"
+  [ "$state" = COMPLETED ] && break
+  sleep 0.2
+done
+[ "$state" = COMPLETED ] || fail "element $element: $state ($(job_field "$element" ExitCode))"
+[ "$(job_field "$element" Restarts)" -ge 1 ] || fail "element $element completed without being requeued"
+state=$(wait_job "$table" 120)
+[ "$state" = COMPLETED ] || fail "table job $table: $state ($(job_field "$table" ExitCode))"
+study=$tmp/work/runs/scaling-weak-$array
+for suffix in csv md png; do
+  [ -s "$study.$suffix" ] || fail "the table job wrote no $study.$suffix"
+done
+"$python" - "$study.csv" "$frames" <<'PY' || fail "$study.csv is not the study's table"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert [int(r["ranks"]) for r in rows] == [1, 2], rows
+assert all(int(r["frames"]) == int(sys.argv[2]) for r in rows), rows
+assert float(rows[0]["efficiency"]) == 1.0 and float(rows[1]["efficiency"]) > 0, rows
+print(f"table: ranks 1, 2; efficiency {float(rows[1]['efficiency']):.2f} at 2 ranks")
+PY
+echo "slurm_job_test: PASS: scaling_study.sh's table job waited for the array, requeued element included, and wrote one table and plot of both (${SECONDS} s)"
