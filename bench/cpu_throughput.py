@@ -26,17 +26,9 @@ import sys
 from datetime import datetime, timezone
 from pathlib import Path
 
+from bench_record import cpu_model
+
 ROOT = Path(__file__).resolve().parent.parent
-
-
-def cpu_model():
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 PARAMETER_KEYS = {

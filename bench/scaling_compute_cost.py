@@ -36,16 +36,11 @@ import time
 from datetime import datetime, timezone
 from pathlib import Path
 
+from bench_record import cpu_model
+
 ROOT = Path(__file__).resolve().parent.parent
 FIXED_PARAMETERS = ['solver.chebyshev_parameters="fixed"', "solver.rho=0.96", "solver.chebyshev_delay=10",
                     "solver.alpha_max=1", "solver.accuracy=0"]
-
-
-def cpu_model():
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("model name"):
-            return line.split(":", 1)[1].strip()
-    return platform.processor() or "unknown"
 
 
 def load_average():

@@ -17,7 +17,6 @@ sample, and checks the targets of issue 12: on 8 ranks every rank's peak
 """
 import argparse
 import os
-import platform
 import re
 import statistics
 import subprocess
@@ -25,17 +24,12 @@ import tempfile
 from datetime import datetime, timezone
 from pathlib import Path
 
+from bench_record import cpu_model, mpi_env, write_report
+
 ROOT = Path(__file__).resolve().parent.parent
 # Helix resolutions of about 1M, 4M and 10M tets (the tet count grows with
 # the cube of the resolution; these give 1.03M, 4.09M and 10.36M).
 RESOLUTIONS = {"1M": 7.15, "4M": 11.35, "10M": 15.4}
-
-
-def cpu_model():
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("model name"):
-            return line.split(":", 1)[1].strip()
-    return platform.processor() or "unknown"
 
 
 def command(binary, ranks, resolution, iterations, out_dir, method):
@@ -53,8 +47,7 @@ def command(binary, ranks, resolution, iterations, out_dir, method):
 
 
 def run_once(cmd):
-    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
-               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    env = mpi_env()
     text = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
     setup = float(re.search(r"set-up ([0-9.]+) s to the first step", text).group(1))
     phases = re.search(r"mesh set-up ([0-9.]+) s on rank 0: slices ([0-9.]+) s, dual graph "
@@ -131,12 +124,7 @@ def main():
     for size, ranks, samples, _ in rows:
         lines.append(f"- {size}, {ranks} ranks: set-up " + ", ".join(f"{s['setup']:.2f}" for s in samples)
                      + " s; peak RSS " + "; ".join(" ".join(f"{x:.0f}" for x in s["rss"]) for s in samples))
-    text = "\n".join(lines) + "\n"
-    if args.out == "-":
-        print(text)
-    else:
-        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.out).write_text(text)
+    write_report(lines, args.out)
 
 
 if __name__ == "__main__":

@@ -22,6 +22,7 @@
 #include "io/frame_writer.hpp"
 #include "meshes/generators.hpp"
 #include "shared_test_directory.hpp"
+#include "world_rank.hpp"
 
 namespace descent {
 namespace {
@@ -32,17 +33,8 @@ constexpr global_index_t kNumVertices = 20;
 constexpr global_index_t kNumTets = 10;
 const std::vector<int> kFrames = {0, 7, 12};  // 000012 checks the zero padding
 
-int comm_rank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
-
-int comm_size() {
-  int size = 0;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return size;
-}
+using testing::world_rank;
+using testing::world_size;
 
 // Known values of the synthetic mesh, as functions of global ids.
 double rest_position(global_index_t vertex, int axis) { return vertex + 0.1 * axis; }
@@ -100,7 +92,7 @@ struct OwnedPart {
 OwnedPart owned_part(const std::function<int(global_index_t)>& vertex_owner,
                      const std::function<int(global_index_t)>& tet_owner) {
   OwnedPart part;
-  const int rank = comm_rank();
+  const int rank = world_rank();
   for (global_index_t vertex = kNumVertices - 1; vertex >= 0; --vertex) {
     if (vertex_owner(vertex) != rank) continue;
     part.vertex_ids.push_back(vertex);
@@ -298,15 +290,15 @@ void write_and_check(const std::string& test_name,
     for (std::size_t k = 0; k < kFrames.size(); ++k) {
       part.write(writer, kFrames[k]);
       // Each completed frame is listed at once (what a killed run leaves).
-      if (comm_rank() == 0) check_xdmf(output / "frames.xdmf", k + 1);
+      if (world_rank() == 0) check_xdmf(output / "frames.xdmf", k + 1);
     }
   }
-  if (comm_rank() == 0) check_h5(output / "frames.h5");
+  if (world_rank() == 0) check_h5(output / "frames.h5");
   expect_all_ranks_passed();
 }
 
 TEST(FrameWriter, InterleavedOwnershipWritesEveryRowAtItsGlobalId) {
-  const int size = comm_size();
+  const int size = world_size();
   write_and_check(
       "interleaved", [size](global_index_t vertex) { return vertex % size; },
       [size](global_index_t tet) { return (tet * 7) % size; });
@@ -322,7 +314,7 @@ TEST(FrameWriter, RanksWithoutRowsStillTakePart) {
 // frame 12 can be written anew.
 TEST(FrameWriter, ResumingDropsLaterFramesAndRebuildsTheIndex) {
   TestDirectory dir("resume");
-  const int size = comm_size();
+  const int size = world_size();
   const OwnedPart part = owned_part([size](global_index_t vertex) { return (vertex / 3) % size; },
                                     [size](global_index_t tet) { return tet % size; });
   {
@@ -331,7 +323,7 @@ TEST(FrameWriter, ResumingDropsLaterFramesAndRebuildsTheIndex) {
   }
   {
     FrameWriter resumed(MPI_COMM_WORLD, dir.path().string(), part.layout(), kFrames[1]);
-    if (comm_rank() == 0) {
+    if (world_rank() == 0) {
       check_xdmf(dir.path() / "frames.xdmf", 2);
       const hid_t file = H5Fopen((dir.path() / "frames.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
       EXPECT_EQ(count_links(file, "/frames"), 2u);
@@ -339,7 +331,7 @@ TEST(FrameWriter, ResumingDropsLaterFramesAndRebuildsTheIndex) {
     }
     part.write(resumed, kFrames[2]);
   }
-  if (comm_rank() == 0) {
+  if (world_rank() == 0) {
     check_xdmf(dir.path() / "frames.xdmf", kFrames.size());
     check_h5(dir.path() / "frames.h5");
   }
@@ -348,7 +340,7 @@ TEST(FrameWriter, ResumingDropsLaterFramesAndRebuildsTheIndex) {
 
 TEST(FrameWriter, WritingAFrameTwiceThrowsHdf5ErrorOnEveryRank) {
   TestDirectory dir("duplicate_frame");
-  const int size = comm_size();
+  const int size = world_size();
   const OwnedPart part = owned_part([size](global_index_t vertex) { return vertex % size; },
                                     [size](global_index_t tet) { return tet % size; });
   FrameWriter writer(MPI_COMM_WORLD, dir.path().string(), part.layout());
@@ -374,12 +366,12 @@ TEST(FrameWriter, WritingAFrameTwiceThrowsHdf5ErrorOnEveryRank) {
 TEST(FrameWriter, DirectoryThatCannotBeCreatedThrowsOnEveryRank) {
   TestDirectory dir("blocked");
   const fs::path blocker = dir.path() / "regular_file";
-  if (comm_rank() == 0) {
+  if (world_rank() == 0) {
     fs::create_directories(dir.path());
     std::ofstream(blocker) << "not a directory\n";
   }
   MPI_Barrier(MPI_COMM_WORLD);
-  const int size = comm_size();
+  const int size = world_size();
   const OwnedPart part = owned_part([size](global_index_t vertex) { return vertex % size; },
                                     [size](global_index_t tet) { return tet % size; });
   const std::string output = (blocker / "frames").string();
@@ -390,10 +382,10 @@ TEST(FrameWriter, DirectoryThatCannotBeCreatedThrowsOnEveryRank) {
 
 TEST(FrameWriter, LayoutThatMissesAVertexThrowsOnEveryRank) {
   TestDirectory dir("bad_layout");
-  const int size = comm_size();
+  const int size = world_size();
   OwnedPart part = owned_part([size](global_index_t vertex) { return vertex % size; },
                               [size](global_index_t tet) { return tet % size; });
-  if (comm_rank() == 0) {  // vertex 0 is rank 0's last
+  if (world_rank() == 0) {  // vertex 0 is rank 0's last
     part.vertex_ids.pop_back();
     part.rest_positions.resize(3 * part.vertex_ids.size());
   }
@@ -405,12 +397,12 @@ TEST(FrameWriter, LayoutThatMissesAVertexThrowsOnEveryRank) {
 // ranks, or twice on one) while another is missing passes that, and must not.
 TEST(FrameWriter, LayoutThatGivesAVertexOrTetTwiceThrowsOnEveryRank) {
   TestDirectory dir("duplicate_rows");
-  const int size = comm_size();
+  const int size = world_size();
   const int last = size - 1;
   OwnedPart vertices_twice = owned_part([size](global_index_t vertex) { return vertex % size; },
                                         [size](global_index_t tet) { return tet % size; });
   OwnedPart tets_twice = vertices_twice;
-  if (comm_rank() == last) {
+  if (world_rank() == last) {
     // Replace its first vertex / tet with one rank 0 owns: the counts still add up.
     vertices_twice.vertex_ids.front() = 0;
     tets_twice.tet_ids.front() = 0;
@@ -482,8 +474,8 @@ ShuffledMesh shuffled_mesh(int size) {
 
 TEST(FrameWriter, ShuffledNumberingAndUnusedVerticesRoundTripInInputOrder) {
   TestDirectory dir("shuffled");
-  const int rank = comm_rank();
-  const ShuffledMesh mesh = shuffled_mesh(comm_size());
+  const int rank = world_rank();
+  const ShuffledMesh mesh = shuffled_mesh(world_size());
   std::vector<global_index_t> owned, unused, tet_ids, tet_vertices;
   std::vector<double> owned_rest, unused_rest;
   for (global_index_t v = 0; v < mesh.num_vertices; ++v) {
@@ -497,7 +489,7 @@ TEST(FrameWriter, ShuffledNumberingAndUnusedVerticesRoundTripInInputOrder) {
     tet_ids.push_back(t);
     tet_vertices.insert(tet_vertices.end(), &mesh.tets[4 * t], &mesh.tets[4 * t + 4]);
   }
-  if (comm_size() > 1 && !owned.empty()) {
+  if (world_size() > 1 && !owned.empty()) {
     // The point of the test: each rank's ids spread over the whole range.
     EXPECT_LT(owned.front(), mesh.num_vertices / 4);
     EXPECT_GT(owned.back(), 3 * mesh.num_vertices / 4);
@@ -595,7 +587,7 @@ TEST(StatsWriter, WritesHeaderAndOneRowPerFrame) {
     for (const FrameStats& row : rows) stats.write(row);
   }
   EXPECT_EQ(path, (dir.path() / "stats.csv").string());
-  if (comm_rank() == 0) {
+  if (world_rank() == 0) {
     std::istringstream csv(read_text(path));
     std::string line;
     std::getline(csv, line);

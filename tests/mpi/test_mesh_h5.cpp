@@ -25,23 +25,15 @@
 #include "io/mesh_io.hpp"
 #include "meshes/generators.hpp"
 #include "shared_test_directory.hpp"
+#include "world_rank.hpp"
 
 namespace descent {
 namespace {
 
 namespace fs = std::filesystem;
 
-int comm_rank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
-
-int comm_size() {
-  int size = 0;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return size;
-}
+using testing::world_rank;
+using testing::world_size;
 
 Mesh small_helix() {
   DoubleHelixParams params;
@@ -85,11 +77,11 @@ void expect_read_error(const std::function<MeshSlice()>& read,
     threw = true;
     thrown = error.what();
   }
-  if (failing_rank(comm_rank())) {
-    EXPECT_TRUE(threw) << "rank " << comm_rank() << " expected: " << message;
+  if (failing_rank(world_rank())) {
+    EXPECT_TRUE(threw) << "rank " << world_rank() << " expected: " << message;
     EXPECT_EQ(thrown, message);
   } else {
-    EXPECT_FALSE(threw) << "rank " << comm_rank() << " threw: " << thrown;
+    EXPECT_FALSE(threw) << "rank " << world_rank() << " threw: " << thrown;
   }
 }
 
@@ -106,7 +98,7 @@ struct RawDataset {
 };
 
 void write_raw_file(const fs::path& path, const std::vector<RawDataset>& datasets) {
-  if (comm_rank() == 0) {
+  if (world_rank() == 0) {
     const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     const hid_t group = H5Gcreate2(file, "/mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     for (const RawDataset& d : datasets) {
@@ -145,12 +137,12 @@ struct RawMesh {
 
 // The rank whose block of `total` rows holds `row`.
 int reader_of(global_index_t row, global_index_t total) {
-  return BlockRange(total, comm_size()).owner(row);
+  return BlockRange(total, world_size()).owner(row);
 }
 
 TEST(MeshH5, SlicesWrittenReadBackAsTheSameSlicesAndAsTheWholeMeshOnOneRank) {
   SharedTestDirectory dir("descent_test_mesh_h5_round_trip");
-  const int rank = comm_rank(), size = comm_size();
+  const int rank = world_rank(), size = world_size();
   if (rank == 0) fs::create_directories(dir.path());
   MPI_Barrier(MPI_COMM_WORLD);
   for (const Mesh& mesh : {small_box(), small_helix()}) {
@@ -185,15 +177,15 @@ TEST(MeshH5, SlicesWrittenReadBackAsTheSameSlicesAndAsTheWholeMeshOnOneRank) {
 
 TEST(MeshH5, SlicesThatDoNotCoverTheMeshOnceThrowOnEveryRank) {
   SharedTestDirectory dir("descent_test_mesh_h5_bad_slices");
-  if (comm_rank() == 0) fs::create_directories(dir.path());
+  if (world_rank() == 0) fs::create_directories(dir.path());
   MPI_Barrier(MPI_COMM_WORLD);
   const Mesh mesh = small_box();
   // Every rank its block, but the last rank drops its last tet.
-  MeshSlice mine = slice_of(mesh, comm_rank(), comm_size());
-  if (comm_rank() == comm_size() - 1) mine.tets.resize(mine.tets.size() - 4);
+  MeshSlice mine = slice_of(mesh, world_rank(), world_size());
+  if (world_rank() == world_size() - 1) mine.tets.resize(mine.tets.size() - 4);
   EXPECT_THROW(write_mesh_h5(MPI_COMM_WORLD, mine, (dir.path() / "mesh.h5").string()), LogicError);
   // Every rank the whole mesh: each row written by every rank.
-  if (comm_size() > 1) {
+  if (world_size() > 1) {
     EXPECT_THROW(
         write_mesh_h5(MPI_COMM_WORLD, slice_of(mesh, 0, 1), (dir.path() / "mesh.h5").string()),
         LogicError);
@@ -203,7 +195,7 @@ TEST(MeshH5, SlicesThatDoNotCoverTheMeshOnceThrowOnEveryRank) {
 
 TEST(MeshH5, Int32TetsAndFloat32PositionsAreAccepted) {
   SharedTestDirectory dir("descent_test_mesh_h5_narrow");
-  if (comm_rank() == 0) fs::create_directories(dir.path());
+  if (world_rank() == 0) fs::create_directories(dir.path());
   const Mesh mesh = small_box();
   const std::vector<float> positions(mesh.positions.begin(), mesh.positions.end());
   const fs::path path = dir.path() / "narrow.h5";
@@ -213,13 +205,13 @@ TEST(MeshH5, Int32TetsAndFloat32PositionsAreAccepted) {
       {{"/mesh/tets", H5T_STD_I32LE, H5T_NATIVE_INT32, {num_tets, 4}, mesh.tets.data()},
        {"/mesh/positions", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, {num_vertices, 3}, positions.data()}});
   expect_same_slice(read_mesh_h5(MPI_COMM_WORLD, path.string()),
-                    slice_of(mesh, comm_rank(), comm_size()), "int32 tets, float32 positions");
+                    slice_of(mesh, world_rank(), world_size()), "int32 tets, float32 positions");
   expect_all_ranks_passed();
 }
 
 TEST(MeshH5, FilesEveryRankSeesAsWrongThrowOnEveryRank) {
   SharedTestDirectory dir("descent_test_mesh_h5_wrong_files");
-  if (comm_rank() == 0) {
+  if (world_rank() == 0) {
     fs::create_directories(dir.path());
     std::ofstream(dir.path() / "text.h5") << "not HDF5\n";
   }
@@ -300,7 +292,7 @@ TEST(MeshH5, FilesEveryRankSeesAsWrongThrowOnEveryRank) {
 // other ranks return, so none is left in a collective call.
 TEST(MeshH5, BadRowsThrowOnTheRankThatReadThemNamingTheRow) {
   SharedTestDirectory dir("descent_test_mesh_h5_bad_rows");
-  if (comm_rank() == 0) fs::create_directories(dir.path());
+  if (world_rank() == 0) fs::create_directories(dir.path());
   const RawMesh good(small_box());
   const global_index_t num_tets = good.num_tets(), num_vertices = good.num_vertices();
   auto read = [](const fs::path& path) {
@@ -364,20 +356,20 @@ TEST(MeshH5, BadRowsThrowOnTheRankThatReadThemNamingTheRow) {
 // read's, and rank 0's report carries its warnings.
 TEST(MeshSlice, AsciiFileReadsAsTheSlicesOfTheSerialRead) {
   SharedTestDirectory dir("descent_test_mesh_slice_ascii");
-  if (comm_rank() == 0) fs::create_directories(dir.path());
+  if (world_rank() == 0) fs::create_directories(dir.path());
   Mesh mesh = small_helix();
   std::swap(mesh.tets[2], mesh.tets[3]);  // tet 0 negatively oriented: re-oriented on reading
   mesh.positions.insert(mesh.positions.end(), {9.0, 9.0, 9.0});  // a vertex no tet uses
   for (const char* name : {"helix.msh", "helix.mesh", "helix.node"}) {
     const std::string path = (dir.path() / name).string();
-    if (comm_rank() == 0) write_mesh(mesh, path);
+    if (world_rank() == 0) write_mesh(mesh, path);
     MPI_Barrier(MPI_COMM_WORLD);
     MeshReadReport report;
     const MeshSlice mine = read_mesh_slice(MPI_COMM_WORLD, path, &report);
     const Mesh serial = read_mesh(path);
-    expect_same_slice(mine, slice_of(serial, comm_rank(), comm_size()), path);
+    expect_same_slice(mine, slice_of(serial, world_rank(), world_size()), path);
     EXPECT_EQ(mine.source, path);
-    if (comm_rank() == 0) {
+    if (world_rank() == 0) {
       EXPECT_EQ(report.reoriented_tets, 1) << path;
       EXPECT_EQ(report.unreferenced_vertices, 1) << path;
       EXPECT_EQ(report.warnings.size(), 2u) << path;
@@ -391,7 +383,7 @@ TEST(MeshSlice, AsciiFileReadsAsTheSlicesOfTheSerialRead) {
 TEST(MeshSlice, AsciiErrorOnRankZeroIsThrownOnEveryRankWithItsMessage) {
   SharedTestDirectory dir("descent_test_mesh_slice_ascii_error");
   const fs::path path = dir.path() / "bad.mesh";
-  if (comm_rank() == 0) {
+  if (world_rank() == 0) {
     fs::create_directories(dir.path());
     std::ofstream(path) << "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n"
                            "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\nTetrahedra\n1\n1 2 3 9 0\nEnd\n";
