@@ -121,8 +121,6 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   }
   external_force_.assign(3 * static_cast<std::size_t>(nv), Real(0));
 
-  corner_grad_.resize(12 * static_cast<std::size_t>(nt));
-  corner_diag_.resize(12 * static_cast<std::size_t>(nt));
   partial_.resize(6 * static_cast<std::size_t>(nv));
 
   // Floor of the diagonal: the mass term in dynamics; without inertia, a
@@ -147,6 +145,12 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
 template <class Real>
 void LocalProblem<Real>::element_pass(const Real* q, index_t begin, index_t end,
                                       bool with_diagonal) {
+  // Made at the first use: the Chebyshev engine keeps corner arrays of its
+  // own, and a run that never comes here saves 24 reals per tet.
+  if (corner_grad_.empty()) {
+    corner_grad_.resize(12 * static_cast<std::size_t>(mesh_.num_tets()));
+    corner_diag_.resize(12 * static_cast<std::size_t>(mesh_.num_tets()));
+  }
   HostExec host;
   const loops::ElementOut<Real> out{corner_grad_.data(),
                                     with_diagonal ? corner_diag_.data() : nullptr, nullptr, 3};
