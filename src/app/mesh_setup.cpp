@@ -55,11 +55,17 @@ DistributedMesh set_up_mesh(MPI_Comm comm, const Scene& scene, const MeshSetupOp
     if (size > 1)
       inform("partition (%s): %s", to_string(mesh.method), describe(mesh.quality).c_str());
     const SetupSeconds& s = mesh.seconds;
-    inform(
-        "mesh set-up %.2f s on rank 0: slices %.2f s, dual graph %.2f s, partition %.2f s, "
-        "tets moved %.2f s, vertices %.2f s, local mesh %.2f s",
-        read_seconds + partition_seconds, read_seconds, s.dual_graph, s.partition, s.migration,
-        s.vertices, s.local_mesh);
+    if (options.partition_file.empty())
+      inform(
+          "mesh set-up %.2f s on rank 0: slices %.2f s, dual graph %.2f s, partition %.2f s, "
+          "tets moved %.2f s, vertices %.2f s, local mesh %.2f s",
+          read_seconds + partition_seconds, read_seconds, s.dual_graph, s.partition, s.migration,
+          s.vertices, s.local_mesh);
+    else
+      inform(
+          "mesh set-up %.2f s on rank 0, partitioned beforehand: piece read %.2f s, vertices "
+          "%.2f s, local mesh %.2f s",
+          read_seconds + partition_seconds, read_seconds, s.vertices, s.local_mesh);
   }
   return mesh;
 }
