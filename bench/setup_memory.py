@@ -32,18 +32,35 @@ ROOT = Path(__file__).resolve().parent.parent
 RESOLUTIONS = {"1M": 7.15, "4M": 11.35, "10M": 15.4}
 
 
-def command(binary, ranks, resolution, iterations, out_dir, method):
+def scene_file(out_dir, resolution):
     scene = (ROOT / "jobs/helix.toml").read_text()
     scene = re.sub(r'^preset = "82k".*$', f"resolution = {resolution}", scene, flags=re.M)
-    scene_file = Path(out_dir) / "scene.toml"
-    scene_file.write_text(scene)
+    path = Path(out_dir) / "scene.toml"
+    path.write_text(scene)
+    return path
+
+
+def command(binary, ranks, scene, iterations, out_dir, method, pieces):
     cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none", str(binary), "run",
-           str(scene_file), "--overwrite", "--out", str(Path(out_dir) / "run"),
+           str(scene), "--overwrite", "--out", str(Path(out_dir) / "run"),
            "--set", "time.frames=1", "--set", "solver.accuracy=0",
            "--set", f"solver.iterations={iterations}", "--set", "output.checkpoint_every=0"]
     if method:
         cmd += ["--set", f'partition.method="{method}"']
+    if pieces:
+        cmd += ["--partition", str(pieces)]
     return cmd
+
+
+def make_pieces(binary, ranks, scene, out_dir, method):
+    """A partition file for `ranks` parts, made on as many ranks (not timed)."""
+    pieces = Path(out_dir) / f"pieces-{ranks}.h5"
+    cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none", str(binary),
+           "partition", str(scene), "-n", str(ranks), "-o", str(pieces), "--quiet"]
+    if method:
+        cmd += ["--set", f'partition.method="{method}"']
+    subprocess.run(cmd, env=mpi_env(), check=True, capture_output=True, text=True)
+    return pieces
 
 
 def run_once(cmd):
@@ -53,9 +70,15 @@ def run_once(cmd):
     phases = re.search(r"mesh set-up ([0-9.]+) s on rank 0: slices ([0-9.]+) s, dual graph "
                        r"([0-9.]+) s, partition ([0-9.]+) s, tets moved ([0-9.]+) s, vertices "
                        r"([0-9.]+) s, local mesh ([0-9.]+) s", text)
+    if phases:
+        phases = [float(x) for x in phases.groups()]
+    else:  # partitioned beforehand: the piece read stands for the slices
+        read = re.search(r"mesh set-up ([0-9.]+) s on rank 0, partitioned beforehand: piece read "
+                         r"([0-9.]+) s, vertices ([0-9.]+) s, local mesh ([0-9.]+) s", text)
+        total, piece, vertices, local = (float(x) for x in read.groups())
+        phases = [total, piece, 0.0, 0.0, 0.0, vertices, local]
     memory = re.findall(r"peak RSS per rank:((?: [0-9]+)+) MiB", text)[-1]
-    return {"setup": setup, "phases": [float(x) for x in phases.groups()],
-            "rss": [float(x) for x in memory.split()]}
+    return {"setup": setup, "phases": phases, "rss": [float(x) for x in memory.split()]}
 
 
 def main():
@@ -66,18 +89,26 @@ def main():
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--iterations", type=int, default=16)
     parser.add_argument("--method", default="", help="partition.method (default: the scene's auto)")
+    parser.add_argument("--pieces", nargs="*", type=int, default=[2],
+                        help="rank counts also run with a partition file made beforehand")
     parser.add_argument("--out", default="-")
     args = parser.parse_args()
 
     rows = []
     with tempfile.TemporaryDirectory() as scratch:
         for size in args.sizes:
+            scene = scene_file(scratch, RESOLUTIONS[size])
             for ranks in args.ranks:
-                cmd = command(args.binary, ranks, RESOLUTIONS[size], args.iterations, scratch,
-                              args.method)
-                samples = [run_once(cmd) for _ in range(args.runs)]
-                rows.append((size, ranks, samples, " ".join(cmd)))
-                print(size, ranks, [s["setup"] for s in samples], flush=True)
+                runs = [(ranks, None)]
+                if ranks in args.pieces:
+                    runs.append((f"{ranks}, --partition",
+                                 make_pieces(args.binary, ranks, scene, scratch, args.method)))
+                for label, pieces in runs:
+                    cmd = command(args.binary, ranks, scene, args.iterations, scratch, args.method,
+                                  pieces)
+                    samples = [run_once(cmd) for _ in range(args.runs)]
+                    rows.append((size, label, samples, " ".join(cmd)))
+                    print(size, label, [s["setup"] for s in samples], flush=True)
 
     median = statistics.median
     lines = [
@@ -98,7 +129,7 @@ def main():
     ]
     peaks = {}
     for size, ranks, samples, _ in rows:
-        rss = [median(s["rss"][r] for s in samples) for r in range(ranks)]
+        rss = [median(s["rss"][r] for s in samples) for r in range(len(samples[0]["rss"]))]
         phases = [median(s["phases"][k] for s in samples) for k in range(1, 7)]
         mean = statistics.fmean(rss)
         peaks[(size, ranks)] = rss
