@@ -24,7 +24,6 @@
 #include "common/closest_name.hpp"
 #include "io/mesh_h5.hpp"
 #include "io/mesh_io.hpp"
-#include "io/mesh_io_detail.hpp"
 #include "io/scene.hpp"
 #include "solver/petsc/petsc_session.hpp"
 
@@ -46,8 +45,7 @@ int write_scene_mesh(MPI_Comm comm, const Scene& scene, const std::string& path)
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   global_index_t counts[2] = {0, 0};
-  const std::string extension = mesh_io_detail::lowercase_extension(path);
-  if (extension == ".h5" || extension == ".hdf5") {
+  if (is_hdf5_mesh_path(path)) {
     const MeshSlice slice = build_scene_mesh_slice(comm, scene.mesh);
     write_mesh_h5(comm, slice, path);
     counts[0] = slice.num_global_vertices;

@@ -6,6 +6,7 @@
 
 #include "app/agree.hpp"
 #include "app/console.hpp"
+#include "app/memory_report.hpp"
 #include "app/scene_mesh.hpp"
 #include "comm/collective_error.hpp"
 #include "comm/mpi_check.hpp"
@@ -97,6 +98,8 @@ int run_partition(MPI_Comm comm, const Scene& scene, const PartitionOptions& opt
       inform("wrote %s: run it with mpirun -n %d descent run SCENE --partition %s",
              options.out_file.c_str(), parts, options.out_file.c_str());
   }
+  const std::string memory = peak_memory_report(comm);
+  if (talk) inform("%s", memory.c_str());
   if (!options.stats_file.empty())
     agree(comm, [&] {
       if (rank == 0) write_stats(options.stats_file, quality);

@@ -1,8 +1,8 @@
 // Frames written by every rank into one HDF5 file through MPI-IO, and the XDMF
 // index that rank 0 rewrites beside it after each frame. The rows each rank
 // owns are first routed to the rank whose block holds them (BlockRouting);
-// each rank then writes its block of every dataset as one hyperslab in one
-// collective call.
+// each rank then writes its block of every dataset as one hyperslab, without
+// collective buffering (io/hdf5_blocks.hpp, independent_transfer, says why).
 #include "io/frame_writer.hpp"
 
 #include <hdf5.h>
@@ -168,7 +168,7 @@ struct FrameWriter::Impl {
   std::string xdmf_grids;  // rank 0: one <Grid> per written frame
   // Released in reverse order of declaration: the transfer list, then the file.
   Hid file;
-  Hid collective_transfer;
+  Hid block_transfer;
 };
 
 FrameWriter::Impl::Impl(MPI_Comm comm_, const std::string& dir_, const FrameWriterLayout& layout,
@@ -195,7 +195,7 @@ FrameWriter::Impl::Impl(MPI_Comm comm_, const std::string& dir_, const FrameWrit
                : owned(H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose,
                        "H5Fcreate", h5);
   }
-  collective_transfer = hdf5::collective_transfer(h5);
+  block_transfer = hdf5::independent_transfer(h5);
   if (resume_after >= 0) {
     resume(resume_after);
     return;
@@ -308,7 +308,7 @@ void FrameWriter::Impl::write_mesh(std::span<const global_index_t> tet_block,
   const std::string tets_where = h5 + ":/mesh/tets";
   // 64-bit: global vertex ids of a cluster-sized mesh pass 2^31.
   Hid tets = hdf5::create_rows_dataset(mesh.get(), "tets", H5T_STD_I64LE, num_tets, 4, tets_where);
-  hdf5::write_block(tets.get(), collective_transfer.get(), H5T_NATIVE_INT64, first_tet,
+  hdf5::write_block(tets.get(), block_transfer.get(), H5T_NATIVE_INT64, first_tet,
                     static_cast<global_index_t>(tet_block.size() / 4), 4, tet_block.data(),
                     tets_where);
 }
@@ -317,7 +317,7 @@ void FrameWriter::Impl::write_vertex_block(hid_t group, const char* name,
                                            std::span<const double> block,
                                            const std::string& where) {
   Hid dataset = hdf5::create_rows_dataset(group, name, H5T_IEEE_F64LE, num_vertices, 3, where);
-  hdf5::write_block(dataset.get(), collective_transfer.get(), H5T_NATIVE_DOUBLE,
+  hdf5::write_block(dataset.get(), block_transfer.get(), H5T_NATIVE_DOUBLE,
                     vertex_routing->first_row(), vertex_routing->num_rows(), 3, block.data(),
                     where);
 }

@@ -45,4 +45,7 @@ MeshSlice read_mesh_h5(MPI_Comm comm, const std::string& path);
 // and receives rank 0's reader warnings there.
 MeshSlice read_mesh_slice(MPI_Comm comm, const std::string& path, MeshReadReport* report);
 
+// Whether `path` names an HDF5 mesh (.h5 or .hdf5, any case).
+bool is_hdf5_mesh_path(const std::string& path);
+
 }  // namespace descent

@@ -89,10 +89,14 @@ MeshSlice scatter_serial_read(MPI_Comm comm, const std::string& path, MeshReadRe
 
 }  // namespace
 
+bool is_hdf5_mesh_path(const std::string& path) {
+  const std::string extension = mesh_io_detail::lowercase_extension(path);
+  return extension == ".h5" || extension == ".hdf5";
+}
+
 MeshSlice read_mesh_slice(MPI_Comm comm, const std::string& path, MeshReadReport* report) {
   if (report) *report = MeshReadReport{};
-  const std::string extension = mesh_io_detail::lowercase_extension(path);
-  if (extension == ".h5" || extension == ".hdf5") return read_mesh_h5(comm, path);
+  if (is_hdf5_mesh_path(path)) return read_mesh_h5(comm, path);
   return scatter_serial_read(comm, path, report);
 }
 
