@@ -79,7 +79,22 @@ void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlic
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  const std::string temporary = path + ".tmp";
+  // Written in a directory of its own beside PATH, under PATH's own name, so
+  // that the XDMF index written with it names the right file once both move.
+  namespace fs = std::filesystem;
+  const fs::path final_h5(path);
+  const fs::path staging = fs::path(path + ".partial");
+  const std::string temporary = (staging / final_h5.filename()).string();
+  int made = 0;
+  if (rank == 0) {
+    std::error_code created;
+    fs::create_directories(staging, created);
+    made = created.value();
+  }
+  DESCENT_MPI_CHECK(MPI_Bcast(&made, 1, MPI_INT, 0, comm));
+  if (made != 0)
+    throw InputError(detail::concat("cannot make ", staging.string(), ": ",
+                                    std::generic_category().message(made)));
   write_mesh_h5(comm, slice, temporary);
 
   // Where this rank's parts go: the parts are blocks in rank order, so
@@ -151,13 +166,13 @@ void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlic
   DESCENT_MPI_CHECK(MPI_Barrier(comm));
   int error = 0;
   if (rank == 0) {
-    std::error_code renamed;
-    std::filesystem::rename(temporary, path, renamed);
-    const std::string xdmf = std::filesystem::path(temporary).replace_extension(".xdmf").string();
-    std::error_code ignored;
-    if (!renamed)
-      std::filesystem::rename(xdmf, std::filesystem::path(path).replace_extension(".xdmf"),
-                              ignored);
+    std::error_code renamed, ignored;
+    fs::rename(temporary, final_h5, renamed);
+    if (!renamed) {
+      fs::rename(fs::path(temporary).replace_extension(".xdmf"),
+                 fs::path(final_h5).replace_extension(".xdmf"), renamed);
+      fs::remove(staging, ignored);
+    }
     error = renamed.value();
   }
   DESCENT_MPI_CHECK(MPI_Bcast(&error, 1, MPI_INT, 0, comm));

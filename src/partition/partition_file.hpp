@@ -25,8 +25,9 @@
 namespace descent {
 
 // Collective: writes the mesh (each rank its slice) and the parts each rank
-// holds (parts_of_rank order), through PATH.tmp renamed at the end, so an
-// interrupted write leaves no file that looks whole.
+// holds (parts_of_rank order) into PATH.partial/ and moves the file and its
+// XDMF index to PATH at the end, so an interrupted write leaves no file
+// that looks whole.
 void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlice& slice,
                           const std::vector<PartTets>& held, int num_parts, PartitionMethod method,
                           const PartitionQuality& quality);

@@ -11,6 +11,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "app/agree.hpp"
 #include "app/mesh_setup.hpp"
@@ -85,6 +87,13 @@ TEST_P(InputPaths, PRanksEqualOneRankWithEveryInputPath) {
   pieces.quiet = true;
   run_partition(MPI_COMM_WORLD, scene, pieces);
   MPI_Barrier(MPI_COMM_WORLD);
+  if (world_rank() == 0) {
+    // The file is a mesh ParaView opens: its index names the file itself.
+    std::ifstream index(dir.file("pieces.xdmf"));
+    const std::string text((std::istreambuf_iterator<char>(index)), {});
+    EXPECT_NE(text.find(">pieces.h5:/mesh/tets<"), std::string::npos) << text;
+    EXPECT_FALSE(fs::exists(dir.file("pieces.h5.partial"))) << "the staging directory stays";
+  }
 
   std::vector<double> reference;
   if (world_rank() == 0) reference = run(MPI_COMM_SELF, scene, {}, nullptr);
