@@ -33,9 +33,13 @@ struct RunRecord {
   double position_sum = 0, weighted_sum = 0;
 };
 
-// The fixed parameters of the paper's method, set explicitly.
+// The fixed parameters of the paper's method, set explicitly. The oracle's
+// 3-rank runs were recorded on the partition METIS makes in one try: in
+// float, and with conversion, 8 frames on another partition (another order
+// of the sums) drift by more than the round-off the comparison allows.
 Scene fixed_scene(const std::string& name) {
   Scene scene = testing::fixed_chebyshev(testing::small_helix_scene());
+  scene.partition.tries = 1;
   SolverSpec& s = scene.solver;
   if (name == "conversion") {
     scene.material.model = "stvk";
