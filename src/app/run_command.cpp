@@ -17,6 +17,7 @@
 #include "app/run_identity.hpp"
 #include "app/simulation.hpp"
 #include "app/stop_request.hpp"
+#include "comm/broadcast_string.hpp"
 #include "common/error.hpp"
 #include "io/checkpoint.hpp"
 #include "io/frame_writer.hpp"
@@ -144,11 +145,7 @@ std::string output_directory(MPI_Comm comm, const std::string& dir, bool overwri
     };
     for (int n = 1; holds_run(chosen); ++n) chosen = dir + "." + std::to_string(n);
   }
-  int length = static_cast<int>(chosen.size());
-  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
-  chosen.resize(length);
-  MPI_Bcast(chosen.data(), length, MPI_CHAR, 0, comm);
-  return chosen;
+  return broadcast_string(comm, chosen);
 }
 
 template <class Real>

@@ -17,6 +17,7 @@
 #include <system_error>
 #include <vector>
 
+#include "comm/collective_error.hpp"
 #include "common/block_range.hpp"
 #include "common/error.hpp"
 #include "io/block_routing.hpp"
@@ -36,16 +37,8 @@ constexpr const char* kH5Name = "frames.h5";
 constexpr const char* kXdmfName = "frames.xdmf";
 constexpr int kLastFrame = 999999;  // frame groups are named with 6 digits
 
-// Rank 0 alone touched the file system and got `error_on_rank0` (an errno
-// value, 0 for success). Every rank throws the same error, so that no rank is
+// A caller's mistake seen on any rank throws on every rank, so that no rank is
 // left waiting in a collective call for one that gave up.
-void throw_on_every_rank_if_failed(MPI_Comm comm, int error_on_rank0, const std::string& what) {
-  MPI_Bcast(&error_on_rank0, 1, MPI_INT, 0, comm);
-  if (error_on_rank0 != 0)
-    throw InputError(what + ": " + std::generic_category().message(error_on_rank0));
-}
-
-// A caller's mistake seen on any rank throws on every rank, for the same reason.
 void verify_on_every_rank(MPI_Comm comm, bool ok_here, const std::string& what) {
   int ok_everywhere = ok_here ? 1 : 0;
   MPI_Allreduce(MPI_IN_PLACE, &ok_everywhere, 1, MPI_INT, MPI_MIN, comm);
@@ -280,8 +273,7 @@ void FrameWriter::Impl::resume(int last) {
   check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush", h5);
   int error = 0;
   if (rank == 0) error = write_file_atomically(dir / kXdmfName, xdmf_document(xdmf_grids));
-  throw_on_every_rank_if_failed(comm, error,
-                                detail::concat("cannot write ", (dir / kXdmfName).string()));
+  throw_if_rank0_failed(comm, error, detail::concat("cannot write ", (dir / kXdmfName).string()));
 }
 
 // Rank 0 creates DIR and removes an index left by an earlier run, which would
@@ -295,8 +287,8 @@ void FrameWriter::Impl::create_output_directory() const {
     if (!created) fs::remove(dir / kXdmfName, removed);
     error = created ? created.value() : removed.value();
   }
-  throw_on_every_rank_if_failed(
-      comm, error, detail::concat("cannot prepare the output directory ", dir.string()));
+  throw_if_rank0_failed(comm, error,
+                        detail::concat("cannot prepare the output directory ", dir.string()));
 }
 
 void FrameWriter::Impl::write_mesh(std::span<const global_index_t> tet_block,
@@ -386,8 +378,7 @@ void FrameWriter::Impl::write_frame(int frame, double time, std::span<const doub
     xdmf_grids += xdmf_grid(frame, time, num_vertices, num_tets, xdmf_grids.empty());
     error = write_file_atomically(dir / kXdmfName, xdmf_document(xdmf_grids));
   }
-  throw_on_every_rank_if_failed(comm, error,
-                                detail::concat("cannot write ", (dir / kXdmfName).string()));
+  throw_if_rank0_failed(comm, error, detail::concat("cannot write ", (dir / kXdmfName).string()));
 }
 
 FrameWriter::FrameWriter(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout,

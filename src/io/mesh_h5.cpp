@@ -12,6 +12,7 @@
 #include <sstream>
 #include <vector>
 
+#include "comm/collective_error.hpp"
 #include "common/block_range.hpp"
 #include "common/error.hpp"
 #include "io/hdf5_blocks.hpp"
@@ -27,18 +28,6 @@ using hdf5::owned;
 
 constexpr const char* kTets = "/mesh/tets";
 constexpr const char* kPositions = "/mesh/positions";
-
-// Rank 0 alone looked at the file system and found `message` wrong (empty:
-// nothing). Every rank throws it, so that none waits in a collective call for
-// a rank that gave up.
-void throw_on_every_rank(MPI_Comm comm, std::string message) {
-  int length = static_cast<int>(message.size());
-  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
-  if (length == 0) return;
-  message.resize(length);
-  MPI_Bcast(message.data(), length, MPI_CHAR, 0, comm);
-  throw InputError(message);
-}
 
 // The slices tile [0, T) and [0, V) in blocks of whole rows, with the same
 // totals on every rank; LogicError on every rank otherwise.
@@ -116,7 +105,7 @@ void write_xdmf(MPI_Comm comm, const MeshSlice& slice, const std::string& path) 
     const bool closed = file != nullptr && std::fclose(file) == 0;
     if (!written || !closed) error = detail::concat("cannot write ", xdmf.string());
   }
-  throw_on_every_rank(comm, error);
+  throw_if_rank0_failed(comm, error);
 }
 
 // Stops HDF5 printing its error stack while probing what may not exist.
@@ -167,7 +156,7 @@ void verify_file_on_rank0(MPI_Comm comm, const std::string& path) {
       }
     }
   }
-  throw_on_every_rank(comm, error);
+  throw_if_rank0_failed(comm, error);
 }
 
 // Opens `name` and checks it holds [rows, cols] values of `type_class`

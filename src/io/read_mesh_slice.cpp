@@ -7,6 +7,7 @@
 #include <exception>
 #include <vector>
 
+#include "comm/collective_error.hpp"
 #include "common/block_range.hpp"
 #include "common/error.hpp"
 #include "io/mesh_h5.hpp"
@@ -14,19 +15,6 @@
 
 namespace descent {
 namespace {
-
-// What rank 0's read threw, sent to every rank and thrown there.
-enum class Failure : int { none = 0, input = 1, other = 2 };
-
-void throw_rank0_failure(MPI_Comm comm, Failure failure, std::string message) {
-  int header[2] = {static_cast<int>(failure), static_cast<int>(message.size())};
-  MPI_Bcast(header, 2, MPI_INT, 0, comm);
-  if (static_cast<Failure>(header[0]) == Failure::none) return;
-  message.resize(header[1]);
-  MPI_Bcast(message.data(), header[1], MPI_CHAR, 0, comm);
-  if (static_cast<Failure>(header[0]) == Failure::input) throw InputError(message);
-  throw Error(message);
-}
 
 // Scatters rows of `cols` values of type T (`mpi_type`) from rank 0's `all`
 // by `blocks`; returns this rank's block. Counts are in rows, which a serial
@@ -56,20 +44,19 @@ MeshSlice scatter_serial_read(MPI_Comm comm, const std::string& path, MeshReadRe
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   Mesh mesh;  // rank 0 only
-  Failure failure = Failure::none;
-  std::string message;
+  // What rank 0's read threw, thrown on every rank as the same kind of error.
+  std::string input_error, other_error;
   if (rank == 0) {
     try {
       mesh = read_mesh(path, report);
     } catch (const InputError& error) {
-      failure = Failure::input;
-      message = error.what();
+      input_error = error.what();
     } catch (const std::exception& error) {
-      failure = Failure::other;
-      message = detail::concat(path, ": ", error.what());
+      other_error = detail::concat(path, ": ", error.what());
     }
   }
-  throw_rank0_failure(comm, failure, message);
+  throw_if_rank0_failed<InputError>(comm, input_error);
+  throw_if_rank0_failed<Error>(comm, other_error);
 
   global_index_t totals[2] = {mesh.num_tets(), mesh.num_vertices()};
   MPI_Bcast(totals, 2, MPI_INT64_T, 0, comm);

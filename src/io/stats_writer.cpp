@@ -8,6 +8,7 @@
 #include <memory>
 #include <system_error>
 
+#include "comm/collective_error.hpp"
 #include "common/error.hpp"
 #include "io/frame_writer.hpp"
 #include "io/number_text.hpp"
@@ -94,10 +95,7 @@ StatsWriter::StatsWriter(MPI_Comm comm, const std::string& dir,
         error = errno != 0 ? errno : EIO;
     }
   }
-  MPI_Bcast(&error, 1, MPI_INT, 0, comm);
-  if (error != 0)
-    throw InputError(detail::concat("cannot create ", impl_->path.string(), ": ",
-                                    std::generic_category().message(error)));
+  throw_if_rank0_failed(comm, error, "cannot create " + impl_->path.string());
 }
 
 StatsWriter::~StatsWriter() = default;

@@ -91,10 +91,7 @@ void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlic
     fs::create_directories(staging, created);
     made = created.value();
   }
-  DESCENT_MPI_CHECK(MPI_Bcast(&made, 1, MPI_INT, 0, comm));
-  if (made != 0)
-    throw InputError(detail::concat("cannot make ", staging.string(), ": ",
-                                    std::generic_category().message(made)));
+  throw_if_rank0_failed(comm, made, "cannot make " + staging.string());
   write_mesh_h5(comm, slice, temporary);
 
   // Where this rank's parts go: the parts are blocks in rank order, so
@@ -175,10 +172,7 @@ void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlic
     }
     error = renamed.value();
   }
-  DESCENT_MPI_CHECK(MPI_Bcast(&error, 1, MPI_INT, 0, comm));
-  if (error != 0)
-    throw InputError(detail::concat("cannot rename ", temporary, " to ", path, ": ",
-                                    std::generic_category().message(error)));
+  throw_if_rank0_failed(comm, error, detail::concat("cannot rename ", temporary, " to ", path));
 }
 
 PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
