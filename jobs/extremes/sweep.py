@@ -23,6 +23,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "bench"))
+import bench_record  # noqa: E402  (the machine, as every benchmark records it)
 
 
 def run_case(args, case, ranks):
@@ -94,7 +96,7 @@ def main():
                 sink.flush()
     print(f"sweep: {time.time() - start:.0f} s; {results}")
     meta = {"date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-            "cpu": cpu_name(), "cores": os.cpu_count(), "reference": args.reference}
+            "cpu": bench_record.cpu_model(), "cores": os.cpu_count(), "reference": args.reference}
     (out / "machine.json").write_text(json.dumps(meta, indent=1) + "\n")
     subprocess.run([sys.executable, str(ROOT / "tools" / "extremes_table.py"), str(out)],
                    check=True)
@@ -106,16 +108,6 @@ def main():
             break
     else:
         print("sweep: no matplotlib in this python or /usr/bin/python3: no plots")
-
-
-def cpu_name():
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown"
 
 
 if __name__ == "__main__":
