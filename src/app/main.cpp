@@ -15,6 +15,7 @@
 
 #include "app/agree.hpp"
 #include "app/console.hpp"
+#include "app/count_option.hpp"
 #include "app/default_scene.hpp"
 #include "app/partition_command.hpp"
 #include "app/run_command.hpp"
@@ -61,22 +62,6 @@ int write_scene_mesh(MPI_Comm comm, const Scene& scene, const std::string& path)
            static_cast<long long>(counts[1]));
   return 0;
 }
-
-// A count of at least 1, refused in words ("--threads 0" would otherwise
-// print CLI11's range up to the largest double).
-const CLI::Validator kAtLeastOne(
-    [](std::string& text) -> std::string {
-      std::size_t used = 0;
-      long value = 0;
-      try {
-        value = std::stol(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == text.size() && value >= 1) return "";
-      return "must be a whole number of at least 1, not '" + text + "'";
-    },
-    "N>=1");
 
 // The subcommand named by the first argument that is not an option, when it
 // names none: CLI11 would only say that a subcommand is required.
@@ -143,7 +128,7 @@ int main_with_mpi(int argc, char** argv) {
   run->add_flag("--no-graphs", no_graphs,
                 "CUDA engine: launch every kernel instead of replaying captured graphs");
   run->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
-      ->check(kAtLeastOne);
+      ->check(at_least(1));
   run->add_option("--petsc-options", petsc_options,
                   "Options for the PETSc solvers, e.g. \"-ksp_monitor -pc_type hypre\"");
   std::string partition_file;
@@ -162,7 +147,7 @@ int main_with_mpi(int argc, char** argv) {
   study->add_option("--set", overrides, "Override a scene key for every case")
       ->type_name("KEY=VALUE");
   study->add_option("--threads", threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)")
-      ->check(kAtLeastOne);
+      ->check(at_least(1));
   study->add_option("--petsc-options", petsc_options,
                     "Options for the PETSc solvers, e.g. \"-ksp_monitor -log_view\"");
 

@@ -6,6 +6,7 @@
 
 #include "app/agree.hpp"
 #include "app/console.hpp"
+#include "app/count_option.hpp"
 #include "app/memory_report.hpp"
 #include "app/scene_mesh.hpp"
 #include "comm/collective_error.hpp"
@@ -31,7 +32,7 @@ CLI::App* add_partition_subcommand(CLI::App& app, PartitionOptions& options) {
       "partition", "Partition a scene's mesh once, for runs with --partition on as many ranks");
   partition->add_option("-n,--parts", options.parts, "Number of parts (the ranks of later runs)")
       ->required()
-      ->check(CLI::PositiveNumber);
+      ->check(at_least(1));
   partition->add_option("-o,--output", options.out_file,
                         "Partition file (.h5) for descent run --partition; none: report only");
   partition->add_option("--stats", options.stats_file,

@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "app/console.hpp"
+#include "app/count_option.hpp"
 #include "app/mesh_setup.hpp"
 #include "app/simulation.hpp"
 #include "app/study_trace.hpp"
@@ -219,12 +220,12 @@ CLI::App* add_study_subcommand(CLI::App& app, StudyOptions& options) {
                     "\"M1:method=chebyshev hessian_interval=1\"; repeatable (default: chebyshev "
                     "gd jacobi_gd ncg lbfgs nesterov newton)");
   study->add_option("--warmup", options.warmup, "Frames of the scene's method before measuring")
-      ->check(CLI::NonNegativeNumber);
-  study->add_option("--frames", options.frames, "Measured frames")->check(CLI::PositiveNumber);
+      ->check(at_least(0));
+  study->add_option("--frames", options.frames, "Measured frames")->check(at_least(1));
   study->add_option("--every", options.every, "Frames advanced between measured frames")
-      ->check(CLI::PositiveNumber);
+      ->check(at_least(1));
   study->add_option("--repeats", options.repeats, "Timing repeats per case (median)")
-      ->check(CLI::PositiveNumber);
+      ->check(at_least(1));
   study->add_option("--study-out", options.out_dir, "Directory for study.csv and pareto.csv");
   study
       ->add_option("--precision", options.precision,

@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 
+#include "app/count_option.hpp"
 #include "app/mesh_setup.hpp"
 #include "app/simulation.hpp"
 
@@ -93,18 +94,18 @@ CLI::App* add_tune_subcommand(CLI::App& app, TuneOptions& options) {
       "tune",
       "Tune Chebyshev's fixed phases, rho and alpha by pre-simulation (paper 1, Eq. 9, as a "
       "compass search in log(1 - rho))");
-  tune->add_option("--phases", options.phases, "Number of phases P")->check(CLI::PositiveNumber);
+  tune->add_option("--phases", options.phases, "Number of phases P")->check(at_least(1));
   tune->add_option("--epsilon", options.epsilon,
                    "Smallest step of log(1 - rho) and log(alpha) (Eq. 9's eps; default 0.05)")
       ->check(CLI::Range(1e-6, 0.5));
   tune->add_option("--shift", options.shift, "Iterations a phase boundary moves per trial")
-      ->check(CLI::PositiveNumber);
+      ->check(at_least(1));
   tune->add_option("--warmup", options.warmup, "Frames of the scene's method first")
-      ->check(CLI::NonNegativeNumber);
+      ->check(at_least(0));
   tune->add_option("--frames", options.frames, "Pre-simulation states the cost sums over")
-      ->check(CLI::PositiveNumber);
+      ->check(at_least(1));
   tune->add_option("--max-cycles", options.max_cycles, "Upper bound on tuning cycles")
-      ->check(CLI::PositiveNumber);
+      ->check(at_least(1));
   tune->add_option("--tune-out", options.out_file, "File for the tuned scene keys");
   tune->add_flag("--quiet", options.quiet, "No progress output");
   return tune;
