@@ -128,7 +128,9 @@ TEST_P(InputPaths, PRanksEqualOneRankWithEveryInputPath) {
                 GetParam().c_str(), world_size(), worst, diagonal);
     // Partitioned now or once beforehand: the same partition, bit for bit.
     if (std::string(path.name) == "generator") generated = got;
-    if (std::string(path.name) == "pieces") EXPECT_EQ(got, generated);
+    if (std::string(path.name) == "pieces") {
+      EXPECT_EQ(got, generated);
+    }
   }
 }
 
