@@ -20,9 +20,11 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 method=${1:?usage: scaling_partitions.sh ptscotch|metis P...}
 shift
-bin=${DESCENT_BIN:-$root/build/src/app/descent}
-scratch=${SCRATCH:-/tmp}
-out=$root/bench/results/scaling_model/partitions
+bin=$(realpath -m "${DESCENT_BIN:-$root/build/src/app/descent}")
+scratch=$(realpath -m "${SCRATCH:-/tmp}")
+# Paths below the repository are relative to it, as the log records them.
+cd "$root"
+out=bench/results/scaling_model/partitions
 mkdir -p "$out"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 
