@@ -163,6 +163,20 @@ struct SolverSpec {
   double linear_cg_tolerance = 1e-10;
   int polar_sweeps = 4;             // 2x2 Jacobi sweeps of the polar decomposition, at most
   double rayleigh_stiffness = 0.0;  // beta (s): stiffness-proportional Rayleigh damping
+  // P^-1 of the methods that precondition (solver/preconditioners/): "jacobi",
+  // "multilevel" or "petsc_gamg" (builds with PETSc).
+  std::string preconditioner = "jacobi";
+  // Steps between rebuilds of a multilevel P^-1 at the step's start (1: every
+  // step); a rollback always rebuilds it.
+  int preconditioner_refresh = 1;
+  // The multilevel hierarchy (solver/preconditioners/multilevel/): the edge
+  // of the coarse grid whose cells aggregate the vertices of the finest level,
+  // in mean edge lengths of the mesh (doubled at each coarser level), the
+  // degree of the Chebyshev-Jacobi smoother before and after each coarse
+  // correction, and the unknowns at most of the coarsest level, solved exactly.
+  double multilevel_cell = 3.0;
+  int multilevel_smoother_degree = 2;
+  int multilevel_coarse_size = 2000;
 };
 
 struct OutputSpec {

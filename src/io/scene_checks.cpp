@@ -151,6 +151,43 @@ void check_box(const SceneDocument& doc, const BoxParams& box) {
           box.tets_per_cell);
 }
 
+// solver.preconditioner and the multilevel hierarchy's keys. Only the
+// methods that precondition their gradient take another P^-1 than Jacobi's.
+void check_preconditioner(const SceneDocument& doc, const Scene& scene) {
+  const SolverSpec& solver = scene.solver;
+  require_one_of(doc, "solver.preconditioner", solver.preconditioner,
+                 {"jacobi", "multilevel", "petsc_gamg"});
+  require(doc, solver.preconditioner_refresh >= 1, "solver.preconditioner_refresh", ">= 1",
+          solver.preconditioner_refresh);
+  require(doc, solver.multilevel_cell >= 1.5 && solver.multilevel_cell <= 100,
+          "solver.multilevel_cell", "in [1.5, 100] mean edge lengths", solver.multilevel_cell);
+  require(doc, solver.multilevel_smoother_degree >= 1 && solver.multilevel_smoother_degree <= 16,
+          "solver.multilevel_smoother_degree", "in [1, 16]", solver.multilevel_smoother_degree);
+  require(doc, solver.multilevel_coarse_size >= 6 && solver.multilevel_coarse_size <= 100000,
+          "solver.multilevel_coarse_size", "in [6, 100000] unknowns",
+          solver.multilevel_coarse_size);
+  if (solver.preconditioner == "jacobi") return;
+  const std::string& method = solver.method;
+  const bool preconditions = method == "chebyshev" || method == "jacobi_gd" ||
+                             method == "nesterov" || method == "ncg" || method == "lbfgs" ||
+                             method == "linear_cg";
+  if (!preconditions)
+    throw InputError(detail::concat(
+        doc.where("solver.preconditioner"), ": solver.preconditioner = \"", solver.preconditioner,
+        "\" preconditions chebyshev, jacobi_gd, nesterov, ncg, lbfgs and linear_cg, not ",
+        method));
+  if (method == "chebyshev" && solver.chebyshev_parameters == "fixed")
+    throw InputError(detail::concat(
+        doc.where("solver.preconditioner"), ": solver.preconditioner = \"", solver.preconditioner,
+        "\" takes Chebyshev's parameters from the spectrum of P^-1 H "
+        "(solver.chebyshev_parameters = \"auto\"); the fixed ones are tuned to Jacobi's"));
+  if (method == "linear_cg" && doc.has("solver.linear_cg_preconditioner"))
+    throw InputError(detail::concat(
+        doc.where("solver.linear_cg_preconditioner"),
+        ": solver.linear_cg_preconditioner and solver.preconditioner = \"",
+        solver.preconditioner, "\" exclude each other (linear_cg then applies the latter)"));
+}
+
 // Paper 2's method is linearly implicit Euler on corotated elements: it needs
 // a time step (no quasi-static solve) and the corotated model as it stands.
 void check_linear_cg(const SceneDocument& doc, const Scene& scene) {
@@ -315,6 +352,7 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require_one_of(doc, "solver.newton_solver", solver.newton_solver, {"cg", "ldlt", "petsc"});
   check_linear_cg(doc, scene);
   require(doc, solver.iterations >= 1, "solver.iterations", ">= 1", solver.iterations);
+  check_preconditioner(doc, scene);
   require_one_of(doc, "solver.chebyshev_parameters", solver.chebyshev_parameters,
                  {"auto", "fixed"});
   require(doc, solver.accuracy >= 0 && solver.accuracy < 1, "solver.accuracy",

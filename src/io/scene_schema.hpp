@@ -87,6 +87,11 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("solver.linear_cg_tolerance", solver.linear_cg_tolerance);
   visit("solver.polar_sweeps", solver.polar_sweeps);
   visit("solver.rayleigh_stiffness", solver.rayleigh_stiffness);
+  visit("solver.preconditioner", solver.preconditioner);
+  visit("solver.preconditioner_refresh", solver.preconditioner_refresh);
+  visit("solver.multilevel_cell", solver.multilevel_cell);
+  visit("solver.multilevel_smoother_degree", solver.multilevel_smoother_degree);
+  visit("solver.multilevel_coarse_size", solver.multilevel_coarse_size);
 
   visit("partition.method", scene.partition.method);
   visit("partition.tries", scene.partition.tries);
