@@ -25,16 +25,20 @@ constexpr int kHaloTag = 7101;
 
 }  // namespace
 
+HaloPattern halo_pattern(const LocalMesh& mesh) {
+  return {mesh.rank, mesh.num_interior, mesh.num_vertices(), mesh.neighbours, mesh.shared_with};
+}
+
 template <class Real>
-Halo<Real>::Halo(MPI_Comm comm, const LocalMesh& mesh)
+Halo<Real>::Halo(MPI_Comm comm, const HaloPattern& pattern)
     : comm_(comm),
-      first_shared_(mesh.num_interior),
-      neighbours_(mesh.neighbours),
-      shared_with_(mesh.shared_with) {
-  const index_t num_shared = mesh.num_shared();
+      first_shared_(pattern.first_shared),
+      neighbours_(pattern.neighbours),
+      shared_with_(pattern.shared_with) {
+  const index_t num_shared = pattern.num_entries - pattern.first_shared;
   // Terms of each shared vertex as (rank, source), sorted by rank.
   std::vector<std::vector<std::pair<int, Source>>> terms(num_shared);
-  for (index_t s = 0; s < num_shared; ++s) terms[s].push_back({mesh.rank, Source{-1, 0}});
+  for (index_t s = 0; s < num_shared; ++s) terms[s].push_back({pattern.rank, Source{-1, 0}});
   for (std::size_t n = 0; n < neighbours_.size(); ++n) {
     for (std::size_t slot = 0; slot < shared_with_[n].size(); ++slot) {
       const index_t v = shared_with_[n][slot];
@@ -91,8 +95,8 @@ void Halo<Real>::finish(Real* values, int width) {
   DESCENT_MPI_CHECK(
       MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE));
   const index_t num_shared = static_cast<index_t>(plan_offsets_.size()) - 1;
-  Real total[8];
-  DESCENT_VERIFY(width <= 8, "halo width ", width, " > 8");
+  Real total[kMaxWidth];
+  DESCENT_VERIFY(width <= kMaxWidth, "halo width ", width, " > ", kMaxWidth);
   for (index_t s = 0; s < num_shared; ++s) {
     Real* own = values + static_cast<std::size_t>(first_shared_ + s) * width;
     for (int c = 0; c < width; ++c) total[c] = 0;

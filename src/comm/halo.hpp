@@ -12,6 +12,7 @@
 // nonblocking sends and receives; finish() waits and writes the totals in
 // place. Layout: `values` holds `width` reals per local vertex
 // ([width * v + c]); shared vertices are local ids [first_shared, num_vertices).
+// Widths up to kMaxWidth.
 #include <mpi.h>
 
 #include <vector>
@@ -21,6 +22,19 @@
 namespace descent {
 
 struct LocalMesh;
+
+// Who shares which entries with whom: of a LocalMesh's vertices, or of the
+// nodes of one level of a multilevel hierarchy. Entries [first_shared,
+// num_entries) are shared; per neighbour rank (ascending) the local ids it
+// shares in ascending global id, the same order on both sides.
+struct HaloPattern {
+  int rank = 0;
+  index_t first_shared = 0;
+  index_t num_entries = 0;
+  std::vector<int> neighbours;
+  std::vector<std::vector<index_t>> shared_with;
+};
+HaloPattern halo_pattern(const LocalMesh& mesh);
 
 struct HaloCounters {
   long exchanges = 0;
@@ -32,7 +46,9 @@ struct HaloCounters {
 template <class Real>
 class Halo {
  public:
-  Halo(MPI_Comm comm, const LocalMesh& mesh);
+  static constexpr int kMaxWidth = 8;
+  Halo(MPI_Comm comm, const HaloPattern& pattern);
+  Halo(MPI_Comm comm, const LocalMesh& mesh) : Halo(comm, halo_pattern(mesh)) {}
 
   void begin(const Real* values, int width);
   void finish(Real* values, int width);
@@ -41,6 +57,7 @@ class Halo {
 
   const HaloCounters& counters() const { return counters_; }
   int num_neighbours() const { return static_cast<int>(neighbours_.size()); }
+  MPI_Comm comm() const { return comm_; }
 
  private:
   // Where one term of a shared vertex's total comes from: this rank's own

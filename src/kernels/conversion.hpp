@@ -90,6 +90,19 @@ DESCENT_HOST_DEVICE inline void converted_gradient(const Model& model, const Con
   }
 }
 
+// dP/dF of the hybrid energy (1 - l) Psi + l Psi_arap at the stored
+// interpolant l (layout of element_hessian.hpp), l held constant as the
+// gradient holds it; at l = 1 the model is not evaluated.
+template <class Real, class Model>
+DESCENT_HOST_DEVICE inline void converted_stress_derivative(const Model& model,
+                                                            const Conversion<Real>& conv, Real l,
+                                                            const Mat3<Real>& f, Real dpdf[81]) {
+  Real base[81] = {}, blended[81] = {};
+  if (l < Real(1)) model.stress_derivative(f, base);
+  if (l > Real(0)) conv.arap.stress_derivative(f, blended);
+  for (int k = 0; k < 81; ++k) dpdf[k] = (Real(1) - l) * base[k] + l * blended[k];
+}
+
 // The hybrid element Hessian (1 - l) H + l H_arap at the stored interpolant
 // l applied to p (l held constant, as converted_gradient holds it), for the
 // spectrum estimate of the preconditioned Hessian. At l = 1 the model is not

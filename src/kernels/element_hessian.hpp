@@ -52,9 +52,33 @@ DESCENT_HOST_DEVICE inline void element_hessian(const Model& model, const TetRes
 // Jacobi eigen-decomposition, at most 20 sweeps, stopping once the
 // off-diagonal mass is below round-off (typically 6-9 sweeps for n = 12).
 // A matrix with no negative eigenvalue is left bit-for-bit unchanged.
+// Whether the symmetric n x n matrix m (row-major, n <= 12) is positive
+// definite: a Cholesky factorisation meets only positive pivots.
+template <class Real>
+DESCENT_HOST_DEVICE inline bool positive_definite(const Real* m, int n) {
+  constexpr int kMaxN = 12;
+  Real l[kMaxN * kMaxN];
+  for (int j = 0; j < n; ++j) {
+    Real s = m[n * j + j];
+    for (int k = 0; k < j; ++k) s -= l[n * j + k] * l[n * j + k];
+    if (!(s > Real(0))) return false;
+    const Real ljj = std::sqrt(s);
+    l[n * j + j] = ljj;
+    for (int i = j + 1; i < n; ++i) {
+      Real t = m[n * i + j];
+      for (int k = 0; k < j; ++k) t -= l[n * i + k] * l[n * j + k];
+      l[n * i + j] = t / ljj;
+    }
+  }
+  return true;
+}
+
 template <class Real>
 DESCENT_HOST_DEVICE inline void project_psd(Real* m, int n) {
   constexpr int kMaxN = 12;
+  // The common case costs one Cholesky, not the eigen-decomposition: a
+  // positive definite matrix stays as it is.
+  if (positive_definite(m, n)) return;
   constexpr int kMaxSweeps = 20;
   // Squared relative off-diagonal mass at which the diagonal is the spectrum.
   const Real tolerance = sizeof(Real) <= 4 ? Real(1e-14) : Real(1e-32);
@@ -122,14 +146,21 @@ DESCENT_HOST_DEVICE inline void project_psd(Real* m, int n) {
 // element_hessian wherever dPdF already is. It is not the nearest PSD matrix
 // to the 12x12 Hessian (that projection can keep curvature the 9x9 one
 // removes), the usual trade for Newton's method on elastic bodies.
+// V B^T dPdF B with dPdF (overwritten) projected to PSD first.
+template <class Real>
+DESCENT_HOST_DEVICE inline void projected_hessian(Real dpdf[81], const TetRest<Real>& rest,
+                                                  Real h[144]) {
+  project_psd(dpdf, 9);
+  contract_stress_derivative(dpdf, rest, h);
+}
+
 template <class Real, class Model>
 DESCENT_HOST_DEVICE inline void element_hessian_psd(const Model& model, const TetRest<Real>& rest,
                                                     const TetCorners<Real>& c, Real h[144]) {
   const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest.dm_inv);
   Real dpdf[81];
   model.stress_derivative(f, dpdf);
-  project_psd(dpdf, 9);
-  contract_stress_derivative(dpdf, rest, h);
+  projected_hessian(dpdf, rest, h);
 }
 
 }  // namespace descent

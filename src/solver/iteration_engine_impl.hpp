@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "kernels/exec_array.hpp"
 #include "kernels/loops.hpp"
 #include "solver/iteration_engine.hpp"
 
@@ -242,49 +243,8 @@ class EngineImpl final : public IterationEngine<Real> {
   static constexpr int kStart = 0, kBoundaryDone = 1, kInteriorDone = 2;  // events
   static constexpr int kV = 0, kVPrev = 1, kW = 2, kY = 3;                // Lanczos vectors
 
-  // Memory of the execution, released with the engine; or a view of host
-  // memory another object owns (releases nothing).
   template <class T>
-  class Array {
-   public:
-    Array() = default;
-    Array(Exec* exec, std::size_t n, bool pinned)
-        : exec_(exec),
-          n_(n),
-          pinned_(pinned),
-          p_(static_cast<T*>(pinned ? exec->allocate_pinned(n * sizeof(T))
-                                    : exec->allocate(n * sizeof(T)))) {}
-    static Array view(const T* p, std::size_t n) {
-      Array a;
-      a.n_ = n;
-      a.p_ = const_cast<T*>(p);  // read only: views are made of constant data
-      return a;
-    }
-    Array(Array&& o) noexcept { *this = std::move(o); }
-    Array& operator=(Array&& o) noexcept {
-      std::swap(exec_, o.exec_);
-      std::swap(n_, o.n_);
-      std::swap(pinned_, o.pinned_);
-      std::swap(p_, o.p_);
-      return *this;
-    }
-    ~Array() {
-      if (!p_ || !exec_) return;
-      if (pinned_)
-        exec_->release_pinned(p_);
-      else
-        exec_->release(p_);
-    }
-    T* data() const { return p_; }
-    std::size_t size() const { return n_; }
-    std::size_t bytes() const { return n_ * sizeof(T); }
-
-   private:
-    Exec* exec_ = nullptr;  // null for a view
-    std::size_t n_ = 0;
-    bool pinned_ = false;
-    T* p_ = nullptr;
-  };
+  using Array = ExecArray<Exec, T>;
 
   template <class T>
   Array<T> make(std::size_t n, std::size_t& counter) {

@@ -1,0 +1,183 @@
+#pragma once
+// The loops of the multilevel preconditioner (solver/preconditioners/
+// multilevel/), written once over any execution (kernels/execution.hpp) like
+// kernels/loops.hpp: the assembly of the finest level's operator from the
+// PSD-projected element Hessians, and the V-cycle's block products,
+// Chebyshev-Jacobi smoother updates, restriction and prolongation.
+//
+// Layout (the execution's memory):
+//   level vectors: `block` reals per node (3 at the finest level: xyz of a
+//     vertex; 6 above: a rigid motion, translation then rotation)
+//   operators: block CSR over a level's local nodes (offsets per row,
+//     columns per block, block * block values per block, row-major)
+//   prolongation P from level l + 1 to level l: block CSR over level l's
+//     nodes, blocks fine_block x 6; its transpose as per-coarse-node lists
+//     of (fine node, slot of P)
+//   tet_slots: 16 per tet, the slot of block (corner a, corner b) at
+//     [16 t + 4 a + b] in the finest operator
+#include <cstdint>
+
+#include "common/mesh.hpp"
+#include "kernels/conversion.hpp"
+#include "kernels/element_hessian.hpp"
+#include "kernels/execution.hpp"
+#include "kernels/loops.hpp"
+#include "kernels/vertex.hpp"
+
+namespace descent::loops {
+
+// Adds the PSD-projected element Hessians of tets order[begin, end) at x to
+// the finest operator, held dofs' rows and columns left out. No two of
+// these tets may share a vertex (one colour of the set-up's colouring), so
+// no two threads add to one block and the sum is the same on every thread
+// count. With conversion, the hybrid's Hessian at each tet's interpolant.
+template <bool Converting, class Exec, class Real, class Model>
+void add_element_hessians(Exec& exec, int stream, const Model& model, const Conversion<Real>& conv,
+                          const Real* interpolant, const Real* x, const index_t* tets,
+                          const TetRest<Real>* rest, const index_t* order, index_t begin,
+                          index_t end, const index_t* tet_slots, const std::uint8_t* fixed,
+                          Real* values) {
+  exec.for_each(
+      stream, begin, end, DESCENT_LAMBDA(index_t k) {
+        const index_t t = order[k];
+        const TetCorners<Real> c = tet_corners(x, tets, t);
+        const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest[t].dm_inv);
+        Real dpdf[81];
+        if constexpr (Converting)
+          converted_stress_derivative(model, conv, interpolant[t], f, dpdf);
+        else
+          model.stress_derivative(f, dpdf);
+        Real h[144];
+        projected_hessian(dpdf, rest[t], h);
+        const index_t* tet = tets + 4 * static_cast<std::int64_t>(t);
+        bool free[12];
+        for (int i = 0; i < 12; ++i) free[i] = !held(fixed, 3 * tet[i / 3] + i % 3);
+        const index_t* slots = tet_slots + 16 * static_cast<std::int64_t>(t);
+        for (int a = 0; a < 4; ++a)
+          for (int b = 0; b < 4; ++b) {
+            Real* block = values + 9 * static_cast<std::int64_t>(slots[4 * a + b]);
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j)
+                if (free[3 * a + i] && free[3 * b + j])
+                  block[3 * i + j] += h[(3 * a + i) * 12 + 3 * b + j];
+          }
+      });
+}
+
+// The vertex terms' curvature m (1/h^2 + c/h) on the free diagonal entries
+// of owned vertices [0, num_owned) (each vertex counted by one rank).
+template <class Exec, class Real>
+void add_vertex_curvature(Exec& exec, int stream, index_t num_owned, VertexTerms<Real> terms,
+                          const Real* mass, const std::uint8_t* fixed,
+                          const index_t* diagonal_slots, Real* values) {
+  exec.for_each(
+      stream, 0, num_owned, DESCENT_LAMBDA(index_t v) {
+        const Real curvature = dof_diagonal(terms, mass[v], Real(0), Real(0));
+        Real* block = values + 9 * static_cast<std::int64_t>(diagonal_slots[v]);
+        for (int i = 0; i < 3; ++i)
+          if (!held(fixed, 3 * v + i)) block[4 * i] += curvature;
+      });
+}
+
+// y = A x on rows [begin, end) (this rank's partial rows).
+template <int B, class Exec, class Real>
+void block_product(Exec& exec, int stream, index_t begin, index_t end, const index_t* offsets,
+                   const index_t* columns, const Real* values, const Real* x, Real* y) {
+  exec.for_each(
+      stream, begin, end, DESCENT_LAMBDA(index_t r) {
+        Real out[B];
+        for (int i = 0; i < B; ++i) out[i] = 0;
+        for (index_t s = offsets[r]; s < offsets[r + 1]; ++s) {
+          const Real* a = values + B * B * static_cast<std::int64_t>(s);
+          const Real* in = x + B * static_cast<std::int64_t>(columns[s]);
+          for (int i = 0; i < B; ++i)
+            for (int j = 0; j < B; ++j) out[i] += a[B * i + j] * in[j];
+        }
+        for (int i = 0; i < B; ++i) y[B * static_cast<std::int64_t>(r) + i] = out[i];
+      });
+}
+
+// The Chebyshev-Jacobi smoother's updates over n unknowns (D^-1 = inv, 0 on
+// unknowns that carry nothing). From x = 0: r = b, d = c inv r, x = d.
+template <class Exec, class Real>
+void smoother_start(Exec& exec, int stream, index_t n, const Real* b, const Real* inv, Real c,
+                    Real* r, Real* d, Real* x) {
+  exec.for_each(
+      stream, 0, n, DESCENT_LAMBDA(index_t k) {
+        r[k] = b[k];
+        d[k] = c * inv[k] * b[k];
+        x[k] = d[k];
+      });
+}
+
+// From a given x with y = A x: r = b - y, d = c inv r, x += d.
+template <class Exec, class Real>
+void smoother_restart(Exec& exec, int stream, index_t n, const Real* b, const Real* y,
+                      const Real* inv, Real c, Real* r, Real* d, Real* x) {
+  exec.for_each(
+      stream, 0, n, DESCENT_LAMBDA(index_t k) {
+        r[k] = b[k] - y[k];
+        d[k] = c * inv[k] * r[k];
+        x[k] += d[k];
+      });
+}
+
+// With y = A d: r -= y, d = c1 d + c2 inv r, x += d.
+template <class Exec, class Real>
+void smoother_step(Exec& exec, int stream, index_t n, const Real* y, const Real* inv, Real c1,
+                   Real c2, Real* r, Real* d, Real* x) {
+  exec.for_each(
+      stream, 0, n, DESCENT_LAMBDA(index_t k) {
+        r[k] -= y[k];
+        d[k] = c1 * d[k] + c2 * inv[k] * r[k];
+        x[k] += d[k];
+      });
+}
+
+// r -= y.
+template <class Exec, class Real>
+void subtract(Exec& exec, int stream, index_t n, const Real* y, Real* r) {
+  exec.for_each(stream, 0, n, DESCENT_LAMBDA(index_t k) { r[k] -= y[k]; });
+}
+
+// b_c[I] = sum of P_vI^T r[v] over the owned fine nodes v < num_owned of
+// P's column I (each fine node counted by one rank): this rank's partial
+// sum. The lists ascend, so owned nodes come first.
+template <int FB, class Exec, class Real>
+void restrict_owned(Exec& exec, int stream, index_t num_coarse, const index_t* t_offsets,
+                    const index_t* t_rows, const index_t* t_slots, index_t num_owned,
+                    const Real* p_values, const Real* r, Real* b_c) {
+  exec.for_each(
+      stream, 0, num_coarse, DESCENT_LAMBDA(index_t c) {
+        Real out[6] = {0, 0, 0, 0, 0, 0};
+        for (index_t k = t_offsets[c]; k < t_offsets[c + 1]; ++k) {
+          const index_t v = t_rows[k];
+          if (v >= num_owned) break;
+          const Real* p = p_values + 6 * FB * static_cast<std::int64_t>(t_slots[k]);
+          const Real* in = r + FB * static_cast<std::int64_t>(v);
+          for (int i = 0; i < FB; ++i)
+            for (int j = 0; j < 6; ++j) out[j] += p[6 * i + j] * in[i];
+        }
+        for (int j = 0; j < 6; ++j) b_c[6 * static_cast<std::int64_t>(c) + j] = out[j];
+      });
+}
+
+// x[v] += sum_I P_vI x_c[I] for every fine node v < n.
+template <int FB, class Exec, class Real>
+void prolong_add(Exec& exec, int stream, index_t n, const index_t* offsets, const index_t* columns,
+                 const Real* p_values, const Real* x_c, Real* x) {
+  exec.for_each(
+      stream, 0, n, DESCENT_LAMBDA(index_t v) {
+        Real out[FB];
+        for (int i = 0; i < FB; ++i) out[i] = 0;
+        for (index_t s = offsets[v]; s < offsets[v + 1]; ++s) {
+          const Real* p = p_values + 6 * FB * static_cast<std::int64_t>(s);
+          const Real* in = x_c + 6 * static_cast<std::int64_t>(columns[s]);
+          for (int i = 0; i < FB; ++i)
+            for (int j = 0; j < 6; ++j) out[i] += p[6 * i + j] * in[j];
+        }
+        for (int i = 0; i < FB; ++i) x[FB * static_cast<std::int64_t>(v) + i] += out[i];
+      });
+}
+
+}  // namespace descent::loops

@@ -1,0 +1,23 @@
+#include "solver/preconditioners/make_preconditioner.hpp"
+
+#include "common/error.hpp"
+#include "solver/preconditioners/multilevel/multilevel_preconditioner.hpp"
+
+namespace descent {
+
+template <class Real>
+std::unique_ptr<Preconditioner<Real>> make_host_preconditioner(LocalProblem<Real>& problem,
+                                                               const SolverSpec& spec) {
+  if (spec.preconditioner == "jacobi") return nullptr;
+  if (spec.preconditioner == "multilevel") return make_host_multilevel(problem, spec);
+  // The scene checks admit only the preconditioners listed here.
+  throw LogicError(detail::concat("no preconditioner for solver.preconditioner = ",
+                                  spec.preconditioner));
+}
+
+template std::unique_ptr<Preconditioner<double>> make_host_preconditioner(LocalProblem<double>&,
+                                                                          const SolverSpec&);
+template std::unique_ptr<Preconditioner<float>> make_host_preconditioner(LocalProblem<float>&,
+                                                                         const SolverSpec&);
+
+}  // namespace descent

@@ -1,0 +1,42 @@
+// The multilevel preconditioner on the host execution: the methods' and the
+// CPU engine's.
+#include "kernels/cpu/host_exec.hpp"
+#include "solver/preconditioners/multilevel/multilevel_impl.hpp"
+#include "solver/preconditioners/multilevel/multilevel_preconditioner.hpp"
+
+namespace descent {
+
+namespace {
+
+// The host execution holds no state; this one lives beside its user.
+template <class Real>
+class HostMultilevel final : public Preconditioner<Real> {
+ public:
+  HostMultilevel(LocalProblem<Real>& problem, const SolverSpec& spec)
+      : impl_(exec_, problem, spec) {}
+  void refresh(const Real* q) override { impl_.refresh(q); }
+  void apply(const Real* r, Real* z) override { impl_.apply(r, z); }
+  PreconditionerStats stats() const override { return impl_.stats(); }
+  std::string describe() const override { return impl_.describe(); }
+
+ private:
+  HostExec exec_;
+  MultilevelPreconditioner<HostExec, Real> impl_;
+};
+
+}  // namespace
+
+template <class Real>
+std::unique_ptr<Preconditioner<Real>> make_host_multilevel(LocalProblem<Real>& problem,
+                                                           const SolverSpec& spec) {
+  return std::make_unique<HostMultilevel<Real>>(problem, spec);
+}
+
+template class MultilevelPreconditioner<HostExec, double>;
+template class MultilevelPreconditioner<HostExec, float>;
+template std::unique_ptr<Preconditioner<double>> make_host_multilevel(LocalProblem<double>&,
+                                                                      const SolverSpec&);
+template std::unique_ptr<Preconditioner<float>> make_host_multilevel(LocalProblem<float>&,
+                                                                     const SolverSpec&);
+
+}  // namespace descent
