@@ -167,7 +167,7 @@ std::string stepper_timing_report(const Stepper<Real>& stepper) {
   if (!chebyshev) return {};
   const double iterate = chebyshev->iterate_seconds(), check = chebyshev->check_seconds();
   const double estimate = chebyshev->estimate_seconds();
-  const double total = iterate + check + estimate;
+  const double total = iterate + check + estimate + chebyshev->refresh_seconds();
   auto share = [total](double part) { return total > 0 ? 100 * part / total : 0.0; };
   std::string text = detail::concat("energy checks and rollbacks ", format_percent(share(check)),
                                     " of step time (", format_milliseconds(check), " of ",
@@ -176,6 +176,12 @@ std::string stepper_timing_report(const Stepper<Real>& stepper) {
     text +=
         detail::concat("; ", chebyshev->estimates(), " spectrum estimate(s) ",
                        format_percent(share(estimate)), " (", format_milliseconds(estimate), ")");
+  if (const Preconditioner<Real>* p = chebyshev->engine().preconditioner()) {
+    const PreconditionerStats s = p->stats();
+    text += detail::concat("; ", s.refreshes, " preconditioner refresh(es) ",
+                           format_milliseconds(s.refresh_seconds), ", ", s.applications,
+                           " applications ", format_milliseconds(s.apply_seconds));
+  }
   if (chebyshev->engine().on_device())
     text += detail::concat("; ", chebyshev->engine().graph_launches(), " graph launches");
   return text;

@@ -237,6 +237,38 @@ void vertex_update(Exec& exec, int stream, index_t num_dofs, VertexData<Real> vd
       });
 }
 
+// The full gradient of eps per dof from assembled elastic partials (width
+// 3), 0 on held dofs: what a preconditioner other than Jacobi's is applied to.
+template <class Exec, class Real>
+void gradient_dofs(Exec& exec, int stream, index_t num_dofs, VertexData<Real> vd,
+                   const Real* partial, const Real* q, Real* g) {
+  exec.for_each(
+      stream, 0, num_dofs, DESCENT_LAMBDA(index_t dof) {
+        const index_t v = dof / 3;
+        g[dof] = held(vd.fixed, dof)
+                     ? Real(0)
+                     : dof_gradient(vd.terms, vd.mass[v], partial[3 * static_cast<std::int64_t>(v) +
+                                                                  dof % 3],
+                                    q[dof], vd.y[dof], vd.qt[dof], vd.force[dof],
+                                    static_cast<int>(dof % 3));
+      });
+}
+
+// The Chebyshev update along a preconditioned direction dq = P^-1 g (0 on
+// held dofs): q_next = omega (q - alpha dq - q_prev) + q_prev, held dofs kept.
+template <class Exec, class Real>
+void preconditioned_update(Exec& exec, int stream, index_t num_dofs, const std::uint8_t* fixed,
+                           const Real* dq, const Real* q, const Real* q_prev, Real* q_next,
+                           const IterationParams<Real>* params) {
+  exec.for_each(
+      stream, 0, num_dofs, DESCENT_LAMBDA(index_t dof) {
+        q_next[dof] = held(fixed, dof)
+                          ? q[dof]
+                          : chebyshev_dof(q[dof], q_prev[dof], dq[dof], Real(1), params->alpha,
+                                          params->omega);
+      });
+}
+
 // The Hessian diagonal alone from assembled partials (width 6), as the
 // refreshing vertex update computes it.
 template <class Exec, class Real>
@@ -327,6 +359,41 @@ void lanczos_residual(Exec& exec, int stream, index_t num_dofs, const Real* y, c
       stream, 0, num_dofs, DESCENT_LAMBDA(index_t dof) {
         w[dof] = y[dof] / d[dof] - alpha * v[dof] - beta_prev * v_prev[dof];
       });
+}
+
+// Lanczos on P^-1 H for a preconditioner P^-1 other than D^-1: the
+// residual-space vectors u (u = P v) travel beside the solution-space v.
+// u_prev <- u, u <- s / beta; v <- z / beta (z = P^-1 s).
+template <class Exec, class Real>
+void lanczos_advance_preconditioned(Exec& exec, int stream, index_t num_dofs, Real inv_beta,
+                                    const Real* s, const Real* z, Real* u, Real* u_prev, Real* v) {
+  exec.for_each(
+      stream, 0, num_dofs, DESCENT_LAMBDA(index_t dof) {
+        u_prev[dof] = u[dof];
+        u[dof] = s[dof] * inv_beta;
+        v[dof] = z[dof] * inv_beta;
+      });
+}
+
+// s <- y - alpha u - beta_prev u_prev (the three-term step in residual space).
+template <class Exec, class Real>
+void lanczos_residual_preconditioned(Exec& exec, int stream, index_t num_dofs, const Real* y,
+                                     const Real* u, const Real* u_prev, Real alpha,
+                                     Real beta_prev, Real* s) {
+  exec.for_each(
+      stream, 0, num_dofs, DESCENT_LAMBDA(index_t dof) {
+        s[dof] = y[dof] - alpha * u[dof] - beta_prev * u_prev[dof];
+      });
+}
+
+// sum over dofs [0, num_dofs) of a b (in double).
+template <class Exec, class Real>
+double inner_product(Exec& exec, int stream, index_t num_dofs, const Real* a, const Real* b) {
+  return exec
+      .reduce(
+          stream, num_dofs,
+          DESCENT_LAMBDA(index_t dof)->Sum2 { return {static_cast<double>(a[dof]) * b[dof], 0.0}; })
+      .value;
 }
 
 // This rank's share of eps(q): element terms of all its tets plus the vertex

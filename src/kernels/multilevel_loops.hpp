@@ -47,19 +47,21 @@ void add_element_hessians(Exec& exec, int stream, const Model& model, const Conv
           converted_stress_derivative(model, conv, interpolant[t], f, dpdf);
         else
           model.stress_derivative(f, dpdf);
+        project_isotropic_psd(f, dpdf);
         Real h[144];
-        projected_hessian(dpdf, rest[t], h);
+        contract_stress_derivative(dpdf, rest[t], h);
         const index_t* tet = tets + 4 * static_cast<std::int64_t>(t);
-        bool free[12];
-        for (int i = 0; i < 12; ++i) free[i] = !held(fixed, 3 * tet[i / 3] + i % 3);
+        // Held dofs' rows and columns zeroed first (most tets have none).
+        if (fixed[tet[0]] | fixed[tet[1]] | fixed[tet[2]] | fixed[tet[3]])
+          for (int i = 0; i < 12; ++i)
+            if (held(fixed, 3 * tet[i / 3] + i % 3))
+              for (int k = 0; k < 12; ++k) h[12 * i + k] = h[12 * k + i] = 0;
         const index_t* slots = tet_slots + 16 * static_cast<std::int64_t>(t);
         for (int a = 0; a < 4; ++a)
           for (int b = 0; b < 4; ++b) {
             Real* block = values + 9 * static_cast<std::int64_t>(slots[4 * a + b]);
             for (int i = 0; i < 3; ++i)
-              for (int j = 0; j < 3; ++j)
-                if (free[3 * a + i] && free[3 * b + j])
-                  block[3 * i + j] += h[(3 * a + i) * 12 + 3 * b + j];
+              for (int j = 0; j < 3; ++j) block[3 * i + j] += h[(3 * a + i) * 12 + 3 * b + j];
           }
       });
 }

@@ -94,6 +94,7 @@ ChebyshevDescent<Real>::ChebyshevDescent(LocalProblem<Real>& problem, const Solv
   DESCENT_VERIFY(spec.method == "chebyshev",
                  "the Chebyshev stepper runs solver.method = chebyshev");
   memory_.alpha = spec.alpha_max;
+  if (spec.preconditioner != "jacobi") engine_->use_preconditioner(spec);
   const auto staging = engine_->staging();
   q_ = staging.q;
   y_ = staging.y;
@@ -154,7 +155,7 @@ bool ChebyshevDescent<Real>::prepare_spectrum(const BodyState<Real>& state, Step
     return false;
   }
   ScopedTimer timer{estimate_seconds_};
-  engine_->refresh_diagonal();
+  if (!engine_->preconditioner()) engine_->refresh_diagonal();
   const double translation = stage_start_vector(state);
   const LanczosRun run = lanczos(*engine_, problem_, spec_.spectrum_steps);
   ++estimates_;
@@ -203,6 +204,16 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   if (upload_force) std::copy(force.begin(), force.end(), engine_->staging().force);
   force_on_engine_nonzero_ = force_nonzero;
   engine_->begin_step(upload_force, reevaluate ? problem_.interpolants().data() : nullptr);
+  // P^-1 at the initial guess, every preconditioner_refresh steps (and at
+  // the first step of a run or a restart, and after a step that rolled back).
+  if (engine_->preconditioner()) {
+    if (steps_since_refresh_ >= spec_.preconditioner_refresh || memory_.reestimate) {
+      ScopedTimer timer{refresh_seconds_};
+      engine_->refresh_preconditioner();
+      steps_since_refresh_ = 0;
+    }
+    ++steps_since_refresh_;
+  }
 
   StepStats stats;
   Schedule schedule;
@@ -332,6 +343,11 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
       break;
     }
     engine_->rollback();
+    if (engine_->preconditioner()) {
+      ScopedTimer timer{refresh_seconds_};
+      engine_->refresh_preconditioner();
+      steps_since_refresh_ = 1;
+    }
     best_is_current = true;
     chebyshev_k = 0;
     if (schedule.automatic) {

@@ -25,6 +25,7 @@
 // decrease says the relative error is below the target and the Chebyshev
 // bound agrees (or the decrease alone says it is far below), within
 // solver.iterations.
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -60,6 +61,8 @@ class ChebyshevDescent final : public Stepper<Real> {
   double iterate_seconds() const { return iterate_seconds_; }
   double check_seconds() const { return check_seconds_; }
   double estimate_seconds() const { return estimate_seconds_; }
+  // Rebuilding a preconditioner other than D^-1 (at step starts, rollbacks).
+  double refresh_seconds() const { return refresh_seconds_; }
   int estimates() const { return estimates_; }
 
  private:
@@ -85,8 +88,12 @@ class ChebyshevDescent final : public Stepper<Real> {
   Real *y_, *qt_, *q_;
   bool force_on_engine_nonzero_ = true;  // until the first upload says otherwise
   std::vector<Real> interpolants_;
-  double iterate_seconds_ = 0, check_seconds_ = 0, estimate_seconds_ = 0;
+  double iterate_seconds_ = 0, check_seconds_ = 0, estimate_seconds_ = 0, refresh_seconds_ = 0;
   int estimates_ = 0;
+  // Steps since P^-1 was last rebuilt at a step's start: a run (and a
+  // restart, which therefore continues bit for bit only with
+  // solver.preconditioner_refresh = 1) rebuilds it at its first step.
+  int steps_since_refresh_ = std::numeric_limits<int>::max();
 };
 
 }  // namespace descent

@@ -13,7 +13,9 @@
 
 #include "comm/halo.hpp"
 #include "comm/reduction.hpp"
+#include "io/scene.hpp"
 #include "solver/local_problem.hpp"
+#include "solver/preconditioners/preconditioner.hpp"
 
 namespace descent {
 
@@ -75,27 +77,43 @@ class IterationEngine {
   virtual void download(bool checked) = 0;
   virtual void download_interpolants(Real* interpolants) = 0;
 
-  // The spectrum estimate (solver/spectrum.hpp): Lanczos on D^-1 H at the
-  // current iterate, H the exact Hessian of eps (held dofs removed), D the
-  // diagonal the iterations use. Vectors live in the engine: v (the current
-  // Lanczos vector), v_prev and w. Sums are this rank's, over owned dofs;
-  // the caller reduces them (one counted allreduce each).
+  // Replaces the Jacobi diagonal D^-1 of the iterations by the preconditioner
+  // solver.preconditioner names (not "jacobi"), on the engine's execution:
+  // each iteration then forms the gradient g, applies P^-1 and updates along
+  // -alpha P^-1 g; no diagonal is refreshed. Collective.
+  virtual void use_preconditioner(const SolverSpec& spec) = 0;
+  // Null while the iterations use D^-1.
+  virtual const Preconditioner<Real>* preconditioner() const = 0;
+  // P^-1 rebuilt at the current iterate. Collective.
+  virtual void refresh_preconditioner() = 0;
+
+  // The spectrum estimate (solver/spectrum.hpp): Lanczos on P^-1 H at the
+  // current iterate, H the exact Hessian of eps (held dofs removed), P^-1
+  // the iterations' preconditioner (D^-1: the diagonal they use). Vectors
+  // live in the engine: with D^-1 v (the current Lanczos vector), v_prev and
+  // w in the D inner product; with another P^-1 the residual-space vectors
+  // beside them, in the P inner product (as in PCG: s, z = P^-1 s, s . z).
+  // Sums are this rank's, over owned dofs; the caller reduces them (one
+  // counted allreduce each).
   // The diagonal at the current iterate, as the next refreshing iteration
   // would compute it (that iteration may then skip its refresh).
   virtual void refresh_diagonal() = 0;
   // Per axis: the sums over owned free dofs of that axis of the vertex
   // curvature m (1/h^2 + c/h) and of the diagonal ([2 axis], [2 axis + 1]):
   // the Rayleigh quotient of a rigid translation without its (boundary)
-  // strain, an estimate of the bottom of the spectrum.
+  // strain, an estimate of the bottom of D^-1 H's spectrum (0 with another
+  // preconditioner: no quotient of it is at hand).
   virtual std::array<double, 6> translation_sums() = 0;
   // w <- staging().vector on free dofs (0 on held ones), v = v_prev = 0;
-  // returns w . D w.
+  // returns w . D w (with P^-1: s <- the staged vector, z = P^-1 s; s . z).
   virtual double lanczos_begin() = 0;
-  // v_prev <- v, v <- w / beta.
+  // v_prev <- v, v <- w / beta (with P^-1: u_prev <- u, u <- s / beta,
+  // v <- z / beta).
   virtual void lanczos_next(double beta) = 0;
   // y <- H v; returns v . H v.
   virtual double lanczos_product() = 0;
-  // w <- D^-1 y - alpha v - beta_prev v_prev; returns w . D w.
+  // w <- D^-1 y - alpha v - beta_prev v_prev; returns w . D w (with P^-1:
+  // s <- y - alpha u - beta_prev u_prev, z = P^-1 s; s . z).
   virtual double lanczos_orthogonalize(double alpha, double beta_prev) = 0;
 
   // The host waits for all queued work.

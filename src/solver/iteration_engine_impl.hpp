@@ -22,6 +22,8 @@
 #include "kernels/exec_array.hpp"
 #include "kernels/loops.hpp"
 #include "solver/iteration_engine.hpp"
+#include "solver/preconditioners/make_preconditioner.hpp"
+#include "solver/preconditioners/multilevel/multilevel_impl.hpp"
 
 namespace descent {
 
@@ -30,6 +32,7 @@ class EngineImpl final : public IterationEngine<Real> {
  public:
   EngineImpl(LocalProblem<Real>& problem, Halo<Real>& halo, const EngineOptions& options)
       : exec_(options.device),
+        problem_(problem),
         halo_(halo),
         options_(options),
         model_(problem.model()),
@@ -102,7 +105,11 @@ class EngineImpl final : public IterationEngine<Real> {
       for (int i = 0; i < count; ++i)
         iteration(refresh[i] != 0, params_.data() + i, (first + i) % 3);
     };
-    if (options_.graphs && halo_.num_neighbours() == 0) {
+    if (preconditioner_) {
+      // The V-cycle synchronises with the host (its coarsest solve): no
+      // sequence to capture.
+      for (int i = 0; i < count; ++i) preconditioned_iteration(params_.data() + i, (first + i) % 3);
+    } else if (options_.graphs && halo_.num_neighbours() == 0) {
       // A captured sequence bakes in its buffers: the key names the rotation
       // phase and which iterations refresh the diagonal.
       std::string key = std::to_string(first) + ":";
@@ -157,8 +164,29 @@ class EngineImpl final : public IterationEngine<Real> {
     exec_.sync(kMain);
   }
 
+  void use_preconditioner(const SolverSpec& spec) override {
+    if (spec.preconditioner == "multilevel") {
+      preconditioner_ = std::make_unique<MultilevelPreconditioner<Exec, Real>>(exec_, problem_, spec);
+    } else if constexpr (Exec::kHostMemory) {
+      preconditioner_ = make_host_preconditioner(problem_, spec);
+    } else {
+      throw InputError(detail::concat("solver.preconditioner = \"", spec.preconditioner,
+                                      "\" runs on the cpu backend only; use --backend cpu, or "
+                                      "solver.preconditioner = \"multilevel\""));
+    }
+    DESCENT_VERIFY(preconditioner_, "no preconditioner for ", spec.preconditioner);
+    gradient_ = make<Real>(n3_, memory_.vertex_bytes);
+    direction_ = make<Real>(n3_, memory_.vertex_bytes);
+  }
+  const Preconditioner<Real>* preconditioner() const override { return preconditioner_.get(); }
+  void refresh_preconditioner() override {
+    exec_.sync(kMain);
+    preconditioner_->refresh(q_[cur_].data());
+  }
+
   std::array<double, 6> translation_sums() override {
     std::array<double, 6> sums{};
+    if (preconditioner_) return sums;
     for (int axis = 0; axis < 3; ++axis) {
       const Sum2 s =
           loops::translation_sums(exec_, kMain, owned_, vertex_data(), diag_.data(), axis);
@@ -171,6 +199,15 @@ class EngineImpl final : public IterationEngine<Real> {
   double lanczos_begin() override {
     if (lanczos_[0].size() == 0)
       for (Array<Real>& a : lanczos_) a = make<Real>(n3_, memory_.vertex_bytes);
+    if (preconditioner_) {
+      if (lanczos_residual_[0].size() == 0)
+        for (Array<Real>& a : lanczos_residual_) a = make<Real>(n3_, memory_.vertex_bytes);
+      for (Array<Real>& a : lanczos_residual_) exec_.zero(kMain, a.data(), a.bytes());
+      Real* s = lanczos_residual_[kS].data();
+      exec_.copy(kMain, s, stage_vector_.data(), lanczos_residual_[kS].bytes());
+      loops::zero_held(exec_, kMain, 3 * nv_, fixed_.data(), s);
+      return precondition_residual();
+    }
     Real* w = lanczos_[kW].data();
     exec_.copy(kMain, w, stage_vector_.data(), lanczos_[kW].bytes());
     exec_.zero(kMain, lanczos_[kV].data(), lanczos_[kV].bytes());
@@ -180,6 +217,13 @@ class EngineImpl final : public IterationEngine<Real> {
   }
 
   void lanczos_next(double beta) override {
+    if (preconditioner_) {
+      loops::lanczos_advance_preconditioned(
+          exec_, kMain, 3 * nv_, static_cast<Real>(1.0 / beta), lanczos_residual_[kS].data(),
+          lanczos_[kW].data(), lanczos_residual_[kU].data(), lanczos_residual_[kUPrev].data(),
+          lanczos_[kV].data());
+      return;
+    }
     loops::lanczos_advance(exec_, kMain, 3 * nv_, static_cast<Real>(1.0 / beta),
                            lanczos_[kW].data(), lanczos_[kV].data(), lanczos_[kVPrev].data());
   }
@@ -196,6 +240,13 @@ class EngineImpl final : public IterationEngine<Real> {
   }
 
   double lanczos_orthogonalize(double alpha, double beta_prev) override {
+    if (preconditioner_) {
+      loops::lanczos_residual_preconditioned(
+          exec_, kMain, 3 * nv_, lanczos_[kY].data(), lanczos_residual_[kU].data(),
+          lanczos_residual_[kUPrev].data(), static_cast<Real>(alpha), static_cast<Real>(beta_prev),
+          lanczos_residual_[kS].data());
+      return precondition_residual();
+    }
     Real* w = lanczos_[kW].data();
     loops::lanczos_residual(exec_, kMain, 3 * nv_, lanczos_[kY].data(), diag_.data(),
                             lanczos_[kV].data(), lanczos_[kVPrev].data(), static_cast<Real>(alpha),
@@ -242,6 +293,7 @@ class EngineImpl final : public IterationEngine<Real> {
   static constexpr int kMain = 0, kSide = 1;                              // streams
   static constexpr int kStart = 0, kBoundaryDone = 1, kInteriorDone = 2;  // events
   static constexpr int kV = 0, kVPrev = 1, kW = 2, kY = 3;                // Lanczos vectors
+  static constexpr int kS = 0, kU = 1, kUPrev = 2;  // their residual-space partners (P^-1)
 
   template <class T>
   using Array = ExecArray<Exec, T>;
@@ -386,6 +438,27 @@ class EngineImpl final : public IterationEngine<Real> {
     exec_.wait(kMain, kInteriorDone);
   }
 
+  // z (the Lanczos w) <- P^-1 s; returns s . z over owned dofs.
+  double precondition_residual() {
+    const Real* s = lanczos_residual_[kS].data();
+    Real* z = lanczos_[kW].data();
+    preconditioner_->apply(s, z);
+    return loops::inner_product(exec_, kMain, 3 * owned_, s, z);
+  }
+
+  // One iteration with P^-1: the gradient assembled (no diagonal), P^-1
+  // applied to it, the Chebyshev update along it.
+  void preconditioned_iteration(const loops::IterationParams<Real>* params, int c) {
+    const Real* q = q_[c].data();
+    assemble([&](int stream, index_t begin,
+                 index_t end) { element_pass(stream, q, begin, end, false, 3); },
+             false, 3);
+    loops::gradient_dofs(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), q, gradient_.data());
+    preconditioner_->apply(gradient_.data(), direction_.data());
+    loops::preconditioned_update(exec_, kMain, 3 * nv_, fixed_.data(), direction_.data(), q,
+                                 q_[(c + 2) % 3].data(), q_[(c + 1) % 3].data(), params);
+  }
+
   // One iteration from buffer `c` (current), (c + 2) % 3 (previous) into
   // (c + 1) % 3 (next).
   void iteration(bool refresh, const loops::IterationParams<Real>* params, int c) {
@@ -399,6 +472,7 @@ class EngineImpl final : public IterationEngine<Real> {
   }
 
   Exec exec_;
+  LocalProblem<Real>& problem_;
   Halo<Real>& halo_;
   EngineOptions options_;
   ElasticModel<Real> model_;
@@ -417,6 +491,9 @@ class EngineImpl final : public IterationEngine<Real> {
   Array<std::uint8_t> fixed_;
   Array<Real> q_[3];
   Array<Real> lanczos_[4];  // v, v_prev, w, y: made at the first estimate
+  Array<Real> lanczos_residual_[3];  // s, u, u_prev: with a preconditioner other than D^-1
+  std::unique_ptr<Preconditioner<Real>> preconditioner_;
+  Array<Real> gradient_, direction_;  // g and P^-1 g, with that preconditioner
   Array<Real> stage_;       // exchange (pinned host)
   Array<Real> stage_q_, stage_y_, stage_qt_, stage_force_, stage_vector_;  // (pinned host)
   Array<loops::IterationParams<Real>> params_, params_host_;
