@@ -5,27 +5,11 @@
 // (PCGAMG) by default, any KSP/PC of PETSc's options database otherwise
 // (-pc_type hypre, -ksp_type minres, ...; docs/petsc.md).
 //
-// Layout. PETSc's rows follow our ownership: rank r owns the 3 dofs of each
-// of its owned vertices (LocalMesh: local ids [0, num_owned)), numbered
-// contiguously from offset_r = sum over ranks s < r of 3 num_owned_s, dof
-// 3 v + i of owned local vertex v at PETSc row offset_r + 3 v + i. Shared
-// vertices owned elsewhere learn their owner's numbers once, through a
-// Halo<double> sum in which only the owner contributes (so the sum is the
-// owner's value exactly). Block size 3 (one block per vertex).
-//
-// Values. Every tet lies on one rank, which adds its 12x12 element Hessian
-// (HessianOperator::element_hessians, corner order = the tet's 4 vertices x
-// xyz) with global indices; rows owned by another rank travel through PETSc's
-// stash at assembly. Each owner adds its owned dofs' vertex curvature
-// m (1/h^2 + c/h) once. Held dofs get an identity row and column (entries
-// coupling them stay in the pattern as explicit zeros) and right-hand side 0,
-// so dq = 0 there, as in the masked CG and in newton_ldlt. The pattern is
-// fixed in the constructor (MATPREALLOCATOR: exact preallocation including
-// off-rank contributions) and every solve refills the same matrix
-// (MatZeroEntries, add, assemble).
-//
-// Near null space: the six rigid-body modes of the positions passed to solve
-// (MatNullSpaceCreateRigidBody), which GAMG needs for elasticity.
+// The matrix: petsc/assembled_hessian.hpp (rows by ownership, block size 3,
+// the element Hessians plus the vertex curvature, held dofs as identity rows
+// and columns, the pattern fixed once and refilled per solve, the rigid-body
+// modes of the positions as GAMG's near null space). Held dofs get right-hand
+// side 0, so dq = 0 there, as in the masked CG and in newton_ldlt.
 //
 // Collectives: the constructor starts PETSc on first use (PetscInitialize,
 // collective) and builds the matrix (PETSc collectives) plus one halo
@@ -39,14 +23,10 @@
 // bench/newton_step.sh). One halo exchange returns dq to the shared
 // vertices.
 //
-// Communicator: MPI_COMM_WORLD (PETSc's world) when the mesh spans several
-// ranks, MPI_COMM_SELF for a one-rank mesh.
-//
 // Defaults set before the options database is read: KSPCG with the
 // unpreconditioned residual norm (our CG's stopping rule, unless
 // -ksp_norm_type is given), PCGAMG with threshold 0 (-pc_gamg_threshold).
 #include <memory>
-#include <vector>
 
 #include "solver/local_problem.hpp"
 #include "solver/methods/hessian_operator.hpp"
@@ -89,16 +69,9 @@ class NewtonPetsc {
 
  private:
   struct State;  // PETSc objects: only newton_petsc.cpp includes PETSc
-  void assemble();
-  // Owned values of `owned` (3 per owned vertex, double) to every local
-  // vertex: shared ones from their owner through the halo.
-  void to_local(const double* owned, Real* local);
 
   LocalProblem<Real>& problem_;
-  const HessianOperator<Real>& hessian_;
   std::unique_ptr<State> state_;
-  std::vector<int> block_;  // per local vertex: PETSc block (vertex) index
-  std::vector<double> exchange_;
   int iterations_ = 0;
   int reason_ = 0;
   long reductions_ = 0;

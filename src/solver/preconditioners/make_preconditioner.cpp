@@ -2,6 +2,7 @@
 
 #include "common/error.hpp"
 #include "solver/preconditioners/multilevel/multilevel_preconditioner.hpp"
+#include "solver/preconditioners/petsc_gamg.hpp"
 
 namespace descent {
 
@@ -10,6 +11,7 @@ std::unique_ptr<Preconditioner<Real>> make_host_preconditioner(LocalProblem<Real
                                                                const SolverSpec& spec) {
   if (spec.preconditioner == "jacobi") return nullptr;
   if (spec.preconditioner == "multilevel") return make_host_multilevel(problem, spec);
+  if (spec.preconditioner == "petsc_gamg") return make_petsc_gamg_preconditioner(problem, spec);
   // The scene checks admit only the preconditioners listed here.
   throw LogicError(detail::concat("no preconditioner for solver.preconditioner = ",
                                   spec.preconditioner));
