@@ -165,6 +165,12 @@ class EngineImpl final : public IterationEngine<Real> {
   }
 
   void use_preconditioner(const SolverSpec& spec) override {
+    // The iterations refresh no diagonal now: its corner values go (before
+    // the preconditioner's set-up, the run's peak of memory).
+    if (corner_diag_.size() > 0) {
+      memory_.tet_bytes -= corner_diag_.bytes();
+      corner_diag_ = {};
+    }
     if (spec.preconditioner == "multilevel") {
       preconditioner_ = std::make_unique<MultilevelPreconditioner<Exec, Real>>(exec_, problem_, spec);
     } else if constexpr (Exec::kHostMemory) {

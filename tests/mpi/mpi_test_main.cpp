@@ -1,8 +1,13 @@
 // GoogleTest main for tests run under mpiexec: MPI is initialised around the
-// whole run, only rank 0 prints, and every rank's failures count toward the
-// exit code so mpiexec reports a failure seen on any rank.
+// whole run, only rank 0 prints (every rank with DESCENT_TEST_ALL_RANKS=1 in
+// the environment, to see another rank's failure), and every rank's failures
+// count toward the exit code so mpiexec reports a failure seen on any rank.
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 #include <mpi.h>
+
+#include <string>
 
 #include "solver/petsc/petsc_session.hpp"
 
@@ -11,7 +16,8 @@ int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank != 0) {
+  const char* all = std::getenv("DESCENT_TEST_ALL_RANKS");
+  if (rank != 0 && !(all && std::string(all) == "1")) {
     auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
     delete listeners.Release(listeners.default_result_printer());
   }

@@ -26,9 +26,16 @@ void GradientDescent<Real>::iterate(StepStats& stats) {
     }
     const Real alpha = static_cast<Real>(this->alpha_);
     Real* q = this->q_.data();
+    if (jacobi_ && this->preconditioner()) {
+      // P^-1 g in place of g (the gradient is not needed after).
+      this->precondition(g_.data(), d_.data(), d_.data());
 #pragma omp parallel for schedule(static)
-    for (std::size_t dof = 0; dof < n; ++dof)
-      q[dof] -= alpha * g_[dof] / (jacobi_ ? d_[dof] : scale);
+      for (std::size_t dof = 0; dof < n; ++dof) q[dof] -= alpha * d_[dof];
+    } else {
+#pragma omp parallel for schedule(static)
+      for (std::size_t dof = 0; dof < n; ++dof)
+        q[dof] -= alpha * g_[dof] / (jacobi_ ? d_[dof] : scale);
+    }
     stats.iterations = k + 1;
     this->report(k + 1);
     if (this->check(k, stats) == MethodBase<Real>::Check::stalled) break;

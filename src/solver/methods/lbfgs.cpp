@@ -30,8 +30,13 @@ void Lbfgs<Real>::iterate(StepStats& stats) {
         pair.s[dof] = this->q_[dof] - q_last_[dof];
         pair.y[dof] = g_[dof] - g_last_[dof];
       }
+      // y . P^-1 y: with a preconditioner other than D^-1 one more
+      // application (into r_, free until the recursion below).
+      const bool general = this->preconditioner() != nullptr;
+      if (general) this->precondition(pair.y.data(), d_.data(), r_.data());
       double dots[2] = {this->local_dot(pair.s.data(), pair.y.data()),
-                        this->local_weighted_norm2(pair.y.data(), d_.data())};
+                        general ? this->local_dot(pair.y.data(), r_.data())
+                                : this->local_weighted_norm2(pair.y.data(), d_.data())};
       this->problem_.global_dots(dots, 2);
       // Only pairs of positive curvature keep the inverse estimate SPD.
       if (dots[0] > 0 && dots[1] > 0) {
@@ -52,7 +57,12 @@ void Lbfgs<Real>::iterate(StepStats& stats) {
       for (std::size_t dof = 0; dof < n; ++dof) r_[dof] -= ai * y[dof];
     }
     const Real s0 = static_cast<Real>(history_.empty() ? 1.0 : scale);
-    for (std::size_t dof = 0; dof < n; ++dof) r_[dof] *= s0 / d_[dof];
+    if (this->preconditioner()) {
+      this->precondition(r_.data(), d_.data(), r_.data());
+      for (std::size_t dof = 0; dof < n; ++dof) r_[dof] *= s0;
+    } else {
+      for (std::size_t dof = 0; dof < n; ++dof) r_[dof] *= s0 / d_[dof];
+    }
     for (std::size_t i = 0; i < history_.size(); ++i) {
       double dot = this->local_dot(history_[i].y.data(), r_.data());
       this->problem_.global_dots(&dot, 1);

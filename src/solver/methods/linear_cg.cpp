@@ -114,7 +114,14 @@ void LinearCg<Real>::apply(const Real* p, Real* out) {
 }
 
 template <class Real>
-void LinearCg<Real>::precondition(const Real* r, Real* z) const {
+void LinearCg<Real>::precondition(const Real* r, Real* z) {
+  // solver.preconditioner other than Jacobi: built on eps's PSD Hessian at
+  // the step start, the operator solved here up to the rotations'
+  // derivative and a scale (CG does not see the scale).
+  if (this->preconditioner()) {
+    MethodBase<Real>::precondition(r, nullptr, z);
+    return;
+  }
   const std::size_t n = this->size();
 #pragma omp parallel for schedule(static)
   for (std::size_t dof = 0; dof < n; ++dof) z[dof] = inverse_preconditioner_[dof] * r[dof];

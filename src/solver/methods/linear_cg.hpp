@@ -53,7 +53,7 @@ class LinearCg final : public MethodBase<Real> {
   void prepare_elements();
   // out = A p on free rows, 0 on held rows (held columns of p count).
   void apply(const Real* p, Real* out);
-  void precondition(const Real* r, Real* z) const;
+  void precondition(const Real* r, Real* z);
   void set_positions(const Real* v);
 
   Corotated<Real> model_;

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "kernels/vertex.hpp"
+#include "solver/preconditioners/make_preconditioner.hpp"
 #include "solver/step_control.hpp"
 
 namespace descent {
@@ -14,6 +15,8 @@ MethodBase<Real>::MethodBase(LocalProblem<Real>& problem, const SolverSpec& spec
       spec_(spec),
       alpha_(spec.alpha_max),
       fixed_(problem.fixed_axes()),
+      preconditioner_(make_host_preconditioner(problem, spec)),
+      steps_since_refresh_(spec.preconditioner_refresh),
       own_guess_(own_guess) {
   const std::size_t n = 3 * static_cast<std::size_t>(problem.num_vertices());
   for (auto* v : {&y_, &qt_, &q_, &q_checked_}) v->resize(n);
@@ -26,6 +29,10 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
   predict_positions(spec_, problem_, state, qt_.data(), y_.data(), q_.data(),
                     this->take_guess_from_start());
   problem_.hold_fixed(t_next, q_.data());
+  if (preconditioner_ && steps_since_refresh_++ >= spec_.preconditioner_refresh - 1) {
+    preconditioner_->refresh(q_.data());
+    steps_since_refresh_ = 1;
+  }
 
   StepStats stats;
   alpha_ = std::min(spec_.alpha_max, alpha_ / spec_.gamma);
@@ -71,6 +78,17 @@ void MethodBase<Real>::gradient(const Real* q, Real* g, Real* diag) {
 }
 
 template <class Real>
+void MethodBase<Real>::precondition(const Real* g, const Real* d, Real* z) {
+  if (preconditioner_) {
+    preconditioner_->apply(g, z);
+    return;
+  }
+  const std::size_t n = q_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t dof = 0; dof < n; ++dof) z[dof] = g[dof] / d[dof];
+}
+
+template <class Real>
 double MethodBase<Real>::local_dot(const Real* a, const Real* b) const {
   const std::size_t n = 3 * static_cast<std::size_t>(problem_.mesh().num_owned);
   double sum = 0;
@@ -102,6 +120,10 @@ typename MethodBase<Real>::Check MethodBase<Real>::check(int k, StepStats& stats
     return Check::accepted;
   }
   q_ = q_checked_;
+  if (preconditioner_) {
+    preconditioner_->refresh(q_.data());
+    steps_since_refresh_ = 1;
+  }
   ++stats.rollbacks;
   alpha_ *= spec_.gamma;
   if (alpha_ < spec_.alpha_min) {

@@ -11,10 +11,12 @@
 // each dof counts once over all ranks; shared vertices are updated
 // redundantly and identically by every sharer (their gradient totals are
 // bitwise equal), so no position exchange is needed.
+#include <memory>
 #include <vector>
 
 #include "io/scene.hpp"
 #include "solver/local_problem.hpp"
+#include "solver/preconditioners/preconditioner.hpp"
 #include "solver/step_control.hpp"
 #include "solver/stepper.hpp"
 
@@ -42,6 +44,14 @@ class MethodBase : public Stepper<Real> {
   // g = grad eps(q), 0 on held dofs; with diag not null also the clamped
   // Hessian diagonal (kernels/vertex.hpp dof_diagonal) per dof.
   void gradient(const Real* q, Real* g, Real* diag);
+  // z = P^-1 g: D^-1 (d, the diagonal the method keeps) or the
+  // preconditioner solver.preconditioner names, which MethodBase rebuilds at
+  // each step's initial guess (every solver.preconditioner_refresh steps)
+  // and after each rollback.
+  void precondition(const Real* g, const Real* d, Real* z);
+  // The preconditioner other than Jacobi's (null with Jacobi).
+  const Preconditioner<Real>* preconditioner() const { return preconditioner_.get(); }
+
   // This rank's share of a . b (owned dofs); sum with problem_.global_dots.
   double local_dot(const Real* a, const Real* b) const;
   // This rank's share of sum a^2 / d (owned dofs).
@@ -63,6 +73,8 @@ class MethodBase : public Stepper<Real> {
 
  private:
   const std::vector<std::uint8_t>& fixed_;
+  std::unique_ptr<Preconditioner<Real>> preconditioner_;
+  int steps_since_refresh_;  // a run rebuilds P^-1 at its first step
   const Real* step_velocity_ = nullptr;
   bool own_guess_;
   // Step-control state of the current step.

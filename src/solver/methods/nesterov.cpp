@@ -22,10 +22,19 @@ void Nesterov<Real>::iterate(StepStats& stats) {
     for (std::size_t dof = 0; dof < n; ++dof) x_[dof] = q[dof] + beta * (q[dof] - q_prev_[dof]);
     this->gradient(x_.data(), g_.data(), refresh ? d_.data() : nullptr);
     const Real alpha = static_cast<Real>(this->alpha_);
+    if (this->preconditioner()) {
+      this->precondition(g_.data(), d_.data(), g_.data());
 #pragma omp parallel for schedule(static)
-    for (std::size_t dof = 0; dof < n; ++dof) {
-      q_prev_[dof] = q[dof];
-      q[dof] = x_[dof] - alpha * g_[dof] / d_[dof];
+      for (std::size_t dof = 0; dof < n; ++dof) {
+        q_prev_[dof] = q[dof];
+        q[dof] = x_[dof] - alpha * g_[dof];
+      }
+    } else {
+#pragma omp parallel for schedule(static)
+      for (std::size_t dof = 0; dof < n; ++dof) {
+        q_prev_[dof] = q[dof];
+        q[dof] = x_[dof] - alpha * g_[dof] / d_[dof];
+      }
     }
     ++momentum_k;
     stats.iterations = k + 1;

@@ -16,7 +16,12 @@ void NonlinearCg<Real>::iterate(StepStats& stats) {
   for (int k = 0; k < this->spec_.iterations; ++k) {
     const bool refresh = k % this->spec_.hessian_interval == 0;
     this->gradient(this->q_.data(), g_.data(), refresh ? d_.data() : nullptr);
-    double dots[2] = {this->local_weighted_norm2(g_.data(), d_.data()),
+    // z = P^-1 g into hdir_ (free until the curvature below) with a
+    // preconditioner other than D^-1.
+    const bool general = this->preconditioner() != nullptr;
+    if (general) this->precondition(g_.data(), d_.data(), hdir_.data());
+    double dots[2] = {general ? this->local_dot(g_.data(), hdir_.data())
+                              : this->local_weighted_norm2(g_.data(), d_.data()),
                       have_direction ? this->local_dot(g_.data(), dir_.data()) : 0.0};
     this->problem_.global_dots(dots, 2);
     const double z = dots[0];
@@ -29,8 +34,13 @@ void NonlinearCg<Real>::iterate(StepStats& stats) {
       slope = -z;
     }
     const Real b = static_cast<Real>(beta);
+    if (general) {
 #pragma omp parallel for schedule(static)
-    for (std::size_t dof = 0; dof < n; ++dof) dir_[dof] = -g_[dof] / d_[dof] + b * dir_[dof];
+      for (std::size_t dof = 0; dof < n; ++dof) dir_[dof] = -hdir_[dof] + b * dir_[dof];
+    } else {
+#pragma omp parallel for schedule(static)
+      for (std::size_t dof = 0; dof < n; ++dof) dir_[dof] = -g_[dof] / d_[dof] + b * dir_[dof];
+    }
     hessian_.product(this->q_.data(), dir_.data(), hdir_.data());
     double curvature = this->local_dot(dir_.data(), hdir_.data());
     this->problem_.global_dots(&curvature, 1);

@@ -25,9 +25,11 @@ struct PreconditionerStats {
   long applications = 0;
   double refresh_seconds = 0;  // rebuilding the operators at a state
   double apply_seconds = 0;
-  // MPI_Allreduce calls of its own (set-up excluded): per refresh and per
-  // application together.
+  // Collectives of its own (set-up excluded), per refresh and per
+  // application together: MPI_Allreduce calls, and gathers (MPI_Allgather,
+  // MPI_Allgatherv).
   long allreduces = 0;
+  long gathers = 0;
   std::size_t memory_bytes = 0;  // what it holds beyond the method's vectors
   // Unknowns per level, finest first (one entry for a one-level method).
   std::vector<long long> level_dofs;

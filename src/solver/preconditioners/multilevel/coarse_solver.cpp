@@ -45,6 +45,18 @@ CoarseSolver::CoarseSolver(MPI_Comm comm, const LevelLayout& level)
     for (int j = 0; j < block_; ++j)
       owned_inactive_.push_back(level.active[static_cast<std::size_t>(block_) * v + j] ? 0 : 1);
   rhs_.assign(unknowns_, 0.0);
+  const int local = static_cast<int>(index_.size());
+  std::vector<int> node_counts(size), node_offsets(size + 1, 0);
+  DESCENT_MPI_CHECK(MPI_Allgather(&local, 1, MPI_INT, node_counts.data(), 1, MPI_INT, comm));
+  for (int r = 0; r < size; ++r) node_offsets[r + 1] = node_offsets[r] + node_counts[r];
+  gathered_index_.resize(node_offsets[size]);
+  DESCENT_MPI_CHECK(MPI_Allgatherv(index_.data(), local, MPI_LONG_LONG, gathered_index_.data(),
+                                   node_counts.data(), node_offsets.data(), MPI_LONG_LONG, comm));
+  for (int r = 0; r <= size; ++r) {
+    if (r < size) gathered_counts_.push_back(node_counts[r] * block_);
+    gathered_offsets_.push_back(node_offsets[r] * block_);
+  }
+  gathered_.resize(static_cast<std::size_t>(node_offsets[size]) * block_);
 }
 
 CoarseSolver::~CoarseSolver() = default;
@@ -94,12 +106,16 @@ void CoarseSolver::factor(const BlockPattern& pattern, const std::vector<double>
 }
 
 void CoarseSolver::solve(const double* b, double* x) {
+  int rank = 0;
+  MPI_Comm_rank(comm_, &rank);
+  DESCENT_MPI_CHECK(MPI_Allgatherv(b, gathered_counts_[rank], MPI_DOUBLE, gathered_.data(),
+                                   gathered_counts_.data(), gathered_offsets_.data(), MPI_DOUBLE,
+                                   comm_));
+  ++solves_;
+  // Rank by rank, so every rank adds the same terms in the same order.
   std::fill(rhs_.begin(), rhs_.end(), 0.0);
-  for (std::size_t v = 0; v < index_.size(); ++v)
-    for (int j = 0; j < block_; ++j) rhs_[index_[v] * block_ + j] += b[block_ * v + j];
-  DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, rhs_.data(), static_cast<int>(unknowns_),
-                                  MPI_DOUBLE, MPI_SUM, comm_));
-  ++allreduces_;
+  for (std::size_t e = 0; e < gathered_index_.size(); ++e)
+    for (int j = 0; j < block_; ++j) rhs_[gathered_index_[e] * block_ + j] += gathered_[block_ * e + j];
   Factor& f = *factor_;
   for (long long k = 0; k < unknowns_; ++k) f.rhs[k] = rhs_[k];
   f.solution = f.llt.solve(f.rhs);

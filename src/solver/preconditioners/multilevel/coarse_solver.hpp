@@ -4,10 +4,14 @@
 // MPI_Allgatherv, summed in rank order) and factored by a sparse Cholesky
 // (Eigen's SimplicialLLT, AMD ordering), the same factor on every rank. A
 // solve takes the right-hand side as partial sums over each rank's local
-// nodes and completes it with one MPI_Allreduce of the coarsest level's
-// size (at most solver.multilevel_coarse_size unknowns): the V-cycle's one
-// collective. Unknowns that carry nothing (dropped modes) get an identity
-// row, so the solution is 0 there.
+// nodes and completes it with one MPI_Allgatherv of every rank's partial
+// sums (about the coarsest level's size, at most
+// solver.multilevel_coarse_size unknowns, times the ranks sharing a node),
+// the V-cycle's one collective, each rank then adding them in rank order:
+// an MPI_Allreduce need not give every rank the same bits (Open MPI's on 3
+// ranks did not), and sharers of a vertex must hold bitwise equal values.
+// Unknowns that carry nothing (dropped modes) get an identity row, so the
+// solution is 0 there.
 #include <mpi.h>
 
 #include <memory>
@@ -27,12 +31,13 @@ class CoarseSolver {
 
   // Collective. `values`: this rank's partial operator on `pattern`.
   void factor(const BlockPattern& pattern, const std::vector<double>& values);
-  // Collective (one MPI_Allreduce). b: this rank's partial sums, block per
+  // Collective (one MPI_Allgatherv). b: this rank's partial sums, block per
   // local node; x: the solution on every local node.
   void solve(const double* b, double* x);
 
   long long unknowns() const { return unknowns_; }
-  long allreduces() const { return allreduces_; }
+  // The collectives of the solves (one each) and of the factorisations.
+  long solves() const { return solves_; }
   long gathers() const { return gathers_; }
 
  private:
@@ -43,8 +48,13 @@ class CoarseSolver {
   std::vector<long long> index_;  // per local node: its global index
   long long unknowns_ = 0;
   std::vector<double> rhs_;
+  // Every rank's local nodes' global indices, rank after rank (set-up), and
+  // the gathered partial sums, block per entry.
+  std::vector<long long> gathered_index_;
+  std::vector<int> gathered_counts_, gathered_offsets_;
+  std::vector<double> gathered_;
   std::unique_ptr<Factor> factor_;
-  long allreduces_ = 0, gathers_ = 0;
+  long solves_ = 0, gathers_ = 0;
 };
 
 }  // namespace descent

@@ -275,8 +275,8 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
   target.global = fine.global.data();
   target.block = k;
   target.product = LevelProduct{&rest, &halo};
-  long allreduces = 0;
-  const double lambda = largest_eigenvalues(comm, {target}, kSmoothingSteps, allreduces)[0];
+  long collectives = 0;
+  const double lambda = largest_eigenvalues(comm, {target}, kSmoothingSteps, collectives)[0];
   Coarsening result;
   result.omega = lambda > 0 ? 4.0 / (3.0 * lambda) : 0.0;
 
@@ -409,6 +409,9 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
                       rows.values[v].begin() + (e + 1) * rows.width);
     }
     p.pattern.offsets[v + 1] = static_cast<index_t>(p.pattern.columns.size());
+    // The row now lives in P: release it (P and the rows would double the peak).
+    std::vector<global_index_t>().swap(rows.keys[v]);
+    std::vector<double>().swap(rows.values[v]);
   }
   return result;
 }
@@ -420,7 +423,7 @@ long long global_sum(MPI_Comm comm, long long value) {
 
 }  // namespace
 
-Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, const BlockMatrix<double>& fine_rest,
+Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, BlockMatrix<double> fine_rest,
                           const std::vector<std::uint8_t>& fixed_axes,
                           const HierarchyOptions& options) {
   DESCENT_VERIFY(options.cell > 0, "multilevel aggregation cell ", options.cell);
@@ -444,7 +447,7 @@ Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, const BlockMatri
   h.operator_pattern.push_back(fine_rest.pattern);
   h.global_unknowns.push_back(global_sum(comm, 3LL * mesh.num_owned));
   h.levels.push_back(std::move(finest));
-  BlockMatrix<double> rest = fine_rest;
+  BlockMatrix<double> rest = std::move(fine_rest);
   double cell = options.cell;
   while (h.global_unknowns.back() > options.coarse_size &&
          static_cast<int>(h.levels.size()) < options.max_levels) {

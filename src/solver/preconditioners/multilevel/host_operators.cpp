@@ -59,8 +59,20 @@ std::vector<double> inverse_diagonal(const std::vector<double>& diagonal,
   return inv;
 }
 
+void rank_ordered_sum(MPI_Comm comm, double* values, int count) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  std::vector<double> all(static_cast<std::size_t>(size) * count);
+  DESCENT_MPI_CHECK(MPI_Allgather(values, count, MPI_DOUBLE, all.data(), count, MPI_DOUBLE, comm));
+  for (int i = 0; i < count; ++i) {
+    double sum = 0;
+    for (int r = 0; r < size; ++r) sum += all[static_cast<std::size_t>(r) * count + i];
+    values[i] = sum;
+  }
+}
+
 std::vector<double> largest_eigenvalues(MPI_Comm comm, const std::vector<LanczosTarget>& targets,
-                                        int steps, long& allreduces) {
+                                        int steps, long& collectives) {
   const std::size_t count = targets.size();
   struct State {
     std::vector<double> v, v_prev, w, y;
@@ -88,9 +100,8 @@ std::vector<double> largest_eigenvalues(MPI_Comm comm, const std::vector<Lanczos
     }
     sums[i] = weighted(t, s.w);
   }
-  DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(count), MPI_DOUBLE,
-                                  MPI_SUM, comm));
-  ++allreduces;
+  rank_ordered_sum(comm, sums.data(), static_cast<int>(count));
+  ++collectives;
   for (std::size_t i = 0; i < count; ++i) {
     state[i].scale = std::sqrt(sums[i]);
     state[i].done = !(sums[i] > 0);
@@ -108,9 +119,8 @@ std::vector<double> largest_eigenvalues(MPI_Comm comm, const std::vector<Lanczos
       t.product(s.v.data(), s.y.data());
       for (index_t k = 0; k < t.owned; ++k) sums[i] += s.v[k] * s.y[k];
     }
-    DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(count),
-                                    MPI_DOUBLE, MPI_SUM, comm));
-    ++allreduces;
+    rank_ordered_sum(comm, sums.data(), static_cast<int>(count));
+    ++collectives;
     for (std::size_t i = 0; i < count; ++i) {
       const LanczosTarget& t = targets[i];
       State& s = state[i];
@@ -124,9 +134,8 @@ std::vector<double> largest_eigenvalues(MPI_Comm comm, const std::vector<Lanczos
         s.w[k] = s.y[k] * t.inv_diagonal[k] - a * s.v[k] - s.beta_prev * s.v_prev[k];
       sums[i] = weighted(t, s.w);
     }
-    DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(count),
-                                    MPI_DOUBLE, MPI_SUM, comm));
-    ++allreduces;
+    rank_ordered_sum(comm, sums.data(), static_cast<int>(count));
+    ++collectives;
     for (std::size_t i = 0; i < count; ++i) {
       State& s = state[i];
       if (s.done) continue;

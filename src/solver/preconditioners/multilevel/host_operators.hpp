@@ -40,10 +40,15 @@ struct LanczosTarget {
 
 // lambda_max(D^-1 A) of every target: `steps` Lanczos steps in the D inner
 // product from a start vector drawn by global id (the same on every rank
-// count), the inner products of all targets fused: 1 + 2 steps
-// MPI_Allreduce calls in all, added to `allreduces`. The largest Ritz
+// count), the inner products of all targets fused: 1 + 2 steps collectives
+// in all (rank_ordered_sum), added to `collectives`. The largest Ritz
 // value, which lies below lambda_max; 0 for a target with nothing active.
 std::vector<double> largest_eigenvalues(MPI_Comm comm, const std::vector<LanczosTarget>& targets,
-                                        int steps, long& allreduces);
+                                        int steps, long& collectives);
+
+// Sums `count` values over all ranks in place, adding the ranks' values in
+// rank order (one MPI_Allgather): every rank gets the same bits, which the
+// smoother's coefficients need, as sharers of a node must update it alike.
+void rank_ordered_sum(MPI_Comm comm, double* values, int count);
 
 }  // namespace descent

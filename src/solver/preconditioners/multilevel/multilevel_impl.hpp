@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -77,12 +78,13 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
     HierarchyOptions options;
     options.cell = spec.multilevel_cell * mean_edge_length(mesh);
     options.coarse_size = spec.multilevel_coarse_size;
-    hierarchy_ = build_hierarchy(comm_, mesh, fine_rest, problem.fixed_axes(), options);
-    fine_rest = {};
+    hierarchy_ = build_hierarchy(comm_, mesh, std::move(fine_rest), problem.fixed_axes(), options);
 
     const std::size_t num_levels = hierarchy_.levels.size();
     levels_.resize(num_levels);
     host_values_.resize(num_levels);
+    for (std::size_t l = 1; l < num_levels; ++l)
+      host_values_[l].assign(36 * hierarchy_.operator_pattern[l].num_blocks(), 0.0);
     for (std::size_t l = 0; l < num_levels; ++l) {
       const LevelLayout& layout = hierarchy_.levels[l];
       Level& level = levels_[l];
@@ -101,7 +103,7 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
         const BlockPattern& pattern = hierarchy_.operator_pattern[l];
         level.offsets = upload(pattern.offsets);
         level.columns = upload(pattern.columns);
-        level.values = make<Real>(36 * pattern.num_blocks());
+        level.values = mirror(host_values_[l]);
       }
     }
     for (std::size_t l = 0; l + 1 < num_levels; ++l) {
@@ -109,7 +111,8 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
       Transfer t;
       t.offsets = upload(p.pattern.offsets);
       t.columns = upload(p.pattern.columns);
-      t.values = upload(std::vector<Real>(p.values.begin(), p.values.end()));
+      t.values = mirror(hierarchy_.prolongation[l].values);
+      if (!views(t.values, p.values)) upload_into(t.values, p.values);
       const TransposedPattern pt = transpose(p.pattern);
       t.t_offsets = upload(pt.offsets);
       t.t_rows = upload(pt.rows);
@@ -149,7 +152,7 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
 
   PreconditionerStats stats() const override {
     PreconditionerStats s = stats_;
-    s.allreduces = lanczos_allreduces_ + coarse_->allreduces();
+    s.gathers = lanczos_gathers_ + coarse_->solves() + coarse_->gathers();
     s.memory_bytes = memory_bytes_ + host_bytes();
     s.level_dofs = hierarchy_.global_unknowns;
     return s;
@@ -241,7 +244,7 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
                                (p[2] - q[2]) * (p[2] - q[2]));
           sums[1] += 1;
         }
-    MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_);
+    rank_ordered_sum(comm_, sums, 2);
     DESCENT_VERIFY(sums[1] > 0 && sums[0] > 0, "multilevel: a mesh without edges");
     const double mean = sums[0] / sums[1];
     const double unit = std::pow(10.0, std::floor(std::log10(mean)) - 3);
@@ -335,14 +338,14 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
         };
     }
     const std::vector<double> largest =
-        last > 0 ? largest_eigenvalues(comm_, targets, kBoundSteps, lanczos_allreduces_)
+        last > 0 ? largest_eigenvalues(comm_, targets, kBoundSteps, lanczos_gathers_)
                  : std::vector<double>{};
     for (std::size_t l = 0; l < last; ++l) {
       Level& level = levels_[l];
       level.upper = kUpperMargin * largest[l];
       level.lower = level.upper / kSmootherRange;
       upload_into(level.inv, inverse[l]);
-      if (l > 0) upload_into(level.values, host_values_[l]);
+      if (l > 0 && !views(level.values, host_values_[l])) upload_into(level.values, host_values_[l]);
     }
     if (last == 0) {
       const std::size_t n = 9 * fine_.pattern.num_blocks();
@@ -350,6 +353,20 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
     } else {
       coarse_->factor(hierarchy_.operator_pattern[last], host_values_[last]);
     }
+  }
+
+  // The execution's copy of host values kept in double: the host data
+  // itself where the execution is the host's and Real is double (no second
+  // copy), else an array the caller fills with upload_into.
+  Array<Real> mirror(std::vector<double>& host) {
+    if constexpr (Exec::kHostMemory && std::is_same_v<Real, double>)
+      return Array<Real>::view(host.data(), host.size());
+    else
+      return make<Real>(host.size());
+  }
+
+  static bool views(const Array<Real>& a, const std::vector<double>& host) {
+    return static_cast<const void*>(a.data()) == static_cast<const void*>(host.data());
   }
 
   void upload_into(Array<Real>& target, const std::vector<double>& host) {
@@ -515,7 +532,7 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
   std::unique_ptr<CoarseSolver> coarse_;
   std::vector<double> coarse_b_, coarse_x_;
   PreconditionerStats stats_;
-  long lanczos_allreduces_ = 0;
+  long lanczos_gathers_ = 0;
   std::size_t memory_bytes_ = 0;
   double setup_seconds_ = 0;
 };

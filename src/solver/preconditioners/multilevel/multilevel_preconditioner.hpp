@@ -21,10 +21,12 @@
 //
 // Messages per V-cycle: per level l < L, 2 x degree products (one halo
 // exchange of partial sums each) and one restriction (an exchange on level
-// l + 1, none onto L); one MPI_Allreduce of the coarsest level's size (the
-// solve). Per refresh: 1 + 2 x 10 MPI_Allreduce (the smoother bounds of all
-// levels at once), one exchange per level for the diagonals, and an
-// MPI_Allgather and MPI_Allgatherv of the coarsest operator.
+// l + 1, none onto L); one MPI_Allgatherv of the coarsest level's partial
+// right-hand sides (coarse_solver.hpp): the one collective. Per refresh:
+// 1 + 2 x 10 MPI_Allgather of a few reals (the smoother bounds of all
+// levels at once, summed in rank order so that every rank gets the same
+// bits), one exchange per level for the diagonals, and an MPI_Allgather
+// and MPI_Allgatherv of the coarsest operator.
 //
 // Backends: on the host every loop is an OpenMP loop; with the CUDA engine
 // the finest operator is assembled on the device and every level's
