@@ -3,7 +3,11 @@
 // per check interval (8 iterations), no other collective, and the comm
 // layer's own counter agrees; with the automatic parameters the steps that
 // estimate the spectrum add 2 + 2 per Lanczos step, every spectrum_interval
-// steps and after a rollback, and the others add nothing.
+// steps and after a rollback, and the others add nothing. With the
+// multilevel preconditioner each application of P^-1 adds one
+// MPI_Allgatherv (the coarsest solve) and nothing else, and each refresh
+// 1 + 2 x 10 MPI_Allgather (the smoother bounds) and the gather of the
+// coarsest operator (an MPI_Allgather and an MPI_Allgatherv).
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -64,6 +68,37 @@ TEST(Collectives, AutomaticParametersEstimateEveryIntervalSteps) {
     EXPECT_EQ(testing::pmpi_other_collectives() - other_before, 0) << "frame " << frame;
   }
   EXPECT_GE(estimates, 3);
+}
+
+TEST(Collectives, MultilevelAddsOneGatherPerVcycle) {
+  Scene scene = testing::small_helix_scene();
+  scene.solver.iterations = 32;
+  scene.solver.check_interval = 8;
+  scene.solver.spectrum_interval = 0;  // the first step and after rollbacks only
+  scene.solver.spectrum_steps = 12;
+  scene.solver.preconditioner = "multilevel";
+  scene.solver.multilevel_coarse_size = 200;
+  const Mesh mesh = build_scene_mesh(scene.mesh);
+  Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+  for (int frame = 0; frame < 3; ++frame) {
+    const long allreduce_before = testing::pmpi_allreduces();
+    const long other_before = testing::pmpi_other_collectives();
+    const long gatherv_before = testing::pmpi_allgathervs();
+    const StepStats step = sim.step();
+    ASSERT_EQ(step.iterations, 32) << "the step ended early; the count below assumes a full step";
+    const bool estimated = step.spectrum_steps > 0;
+    EXPECT_EQ(estimated, frame == 0 || step.rollbacks > 0) << "frame " << frame;
+    const long refreshes = 1 + step.rollbacks;
+    // One V-cycle per iteration, per Lanczos step and for the start vector.
+    const long vcycles = 32 + (estimated ? 1 + step.spectrum_steps : 0);
+    EXPECT_EQ(testing::pmpi_allreduces() - allreduce_before,
+              32 / 8 + (estimated ? 2 + 2 * step.spectrum_steps : 0))
+        << "frame " << frame;
+    EXPECT_EQ(testing::pmpi_allgathervs() - gatherv_before, vcycles + refreshes)
+        << "frame " << frame;
+    EXPECT_EQ(testing::pmpi_other_collectives() - other_before, refreshes * (1 + 2 * 10 + 1))
+        << "frame " << frame;
+  }
 }
 
 }  // namespace

@@ -399,15 +399,11 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
   p.pattern.cols = nc;
   p.pattern.offsets.assign(static_cast<std::size_t>(n) + 1, 0);
   for (index_t v = 0; v < n; ++v) {
-    // Keys ascend by id; local columns ascend by local index.
-    std::vector<std::pair<index_t, std::size_t>> cols;
-    for (std::size_t e = 0; e < rows.keys[v].size(); ++e) cols.push_back({local.at(rows.keys[v][e]), e});
-    std::sort(cols.begin(), cols.end());
-    for (const auto& [c, e] : cols) {
-      p.pattern.columns.push_back(c);
-      p.values.insert(p.values.end(), rows.values[v].begin() + e * rows.width,
-                      rows.values[v].begin() + (e + 1) * rows.width);
-    }
+    // In ascending global id of the coarse node, not local index: the
+    // prolongation sums a row in this order, and every sharer of a node
+    // must add the same terms in the same order.
+    for (std::size_t e = 0; e < rows.keys[v].size(); ++e) p.pattern.columns.push_back(local.at(rows.keys[v][e]));
+    p.values.insert(p.values.end(), rows.values[v].begin(), rows.values[v].end());
     p.pattern.offsets[v + 1] = static_cast<index_t>(p.pattern.columns.size());
     // The row now lives in P: release it (P and the rows would double the peak).
     std::vector<global_index_t>().swap(rows.keys[v]);

@@ -68,7 +68,9 @@ struct HierarchyOptions {
 struct Hierarchy {
   std::vector<LevelLayout> levels;  // finest first
   // prolongation[l]: rows level l's nodes, columns level l+1's, blocks
-  // levels[l].block x levels[l+1].block.
+  // levels[l].block x levels[l+1].block; a row's blocks in ascending global
+  // id of their coarse node (not local index, unlike an operator's), so that
+  // every rank holding a node sums its row in the same order.
   std::vector<BlockMatrix<double>> prolongation;
   // operator_pattern[l]: the pattern of this rank's partial operator of
   // level l (the finest: the vertex pairs of its tets).
