@@ -43,7 +43,9 @@ void add_element_hessians(Exec& exec, int stream, const Model& model, const Conv
         const TetCorners<Real> c = tet_corners(x, tets, t);
         const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], rest[t].dm_inv);
         Real dpdf[81];
-        if constexpr (Converting)
+        // Not `if constexpr`: nvcc's extended lambdas cannot first capture
+        // inside one.
+        if (Converting)
           converted_stress_derivative(model, conv, interpolant[t], f, dpdf);
         else
           model.stress_derivative(f, dpdf);
@@ -162,6 +164,29 @@ void restrict_owned(Exec& exec, int stream, index_t num_coarse, const index_t* t
         }
         for (int j = 0; j < 6; ++j) b_c[6 * static_cast<std::int64_t>(c) + j] = out[j];
       });
+}
+
+// The same sums row by row on one thread: b_c zeroed, then each owned fine
+// row adds its blocks in ascending row order, so every coarse node receives
+// its terms in the order restrict_owned adds them (the same bits), reading
+// P in its own order rather than through the transpose's indirection (3-4x
+// faster on the host).
+template <int FB, class Real>
+void restrict_owned_serial(index_t num_coarse, const index_t* offsets, const index_t* columns,
+                           index_t num_owned, const Real* p_values, const Real* r, Real* b_c) {
+  for (std::int64_t k = 0; k < 6 * static_cast<std::int64_t>(num_coarse); ++k) b_c[k] = 0;
+  for (index_t v = 0; v < num_owned; ++v) {
+    const Real* in = r + FB * static_cast<std::int64_t>(v);
+    for (index_t s = offsets[v]; s < offsets[v + 1]; ++s) {
+      const Real* p = p_values + 6 * FB * static_cast<std::int64_t>(s);
+      Real* out = b_c + 6 * static_cast<std::int64_t>(columns[s]);
+      for (int j = 0; j < 6; ++j) {
+        Real sum = out[j];
+        for (int i = 0; i < FB; ++i) sum += p[6 * i + j] * in[i];
+        out[j] = sum;
+      }
+    }
+  }
 }
 
 // x[v] += sum_I P_vI x_c[I] for every fine node v < n.

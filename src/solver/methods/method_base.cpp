@@ -80,7 +80,14 @@ void MethodBase<Real>::gradient(const Real* q, Real* g, Real* diag) {
 template <class Real>
 void MethodBase<Real>::precondition(const Real* g, const Real* d, Real* z) {
   if (preconditioner_) {
-    preconditioner_->apply(g, z);
+    if (g != z) {
+      preconditioner_->apply(g, z);
+      return;
+    }
+    // In place: P^-1 reads its input to the end.
+    scratch_.resize(q_.size());
+    preconditioner_->apply(g, scratch_.data());
+    std::copy(scratch_.begin(), scratch_.end(), z);
     return;
   }
   const std::size_t n = q_.size();

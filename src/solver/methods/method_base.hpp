@@ -44,7 +44,7 @@ class MethodBase : public Stepper<Real> {
   // g = grad eps(q), 0 on held dofs; with diag not null also the clamped
   // Hessian diagonal (kernels/vertex.hpp dof_diagonal) per dof.
   void gradient(const Real* q, Real* g, Real* diag);
-  // z = P^-1 g: D^-1 (d, the diagonal the method keeps) or the
+  // z = P^-1 g (z may be g): D^-1 (d, the diagonal the method keeps) or the
   // preconditioner solver.preconditioner names, which MethodBase rebuilds at
   // each step's initial guess (every solver.preconditioner_refresh steps)
   // and after each rollback.
@@ -74,6 +74,7 @@ class MethodBase : public Stepper<Real> {
  private:
   const std::vector<std::uint8_t>& fixed_;
   std::unique_ptr<Preconditioner<Real>> preconditioner_;
+  std::vector<Real> scratch_;  // P^-1 g in place
   int steps_since_refresh_;  // a run rebuilds P^-1 at its first step
   const Real* step_velocity_ = nullptr;
   bool own_guess_;

@@ -46,7 +46,8 @@ class Preconditioner {
   virtual void refresh(const Real* q) = 0;
 
   // z = P^-1 r. r is complete on every local vertex (shared ones bitwise
-  // equal on all sharers) and 0 on held dofs; so is z.
+  // equal on all sharers) and 0 on held dofs; so is z. r and z are
+  // distinct arrays.
   virtual void apply(const Real* r, Real* z) = 0;
 
   virtual PreconditionerStats stats() const = 0;

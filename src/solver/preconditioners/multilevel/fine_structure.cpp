@@ -4,7 +4,7 @@
 
 namespace descent {
 
-FineStructure make_fine_structure(const LocalMesh& mesh) {
+FineStructure make_fine_structure(const LocalMesh& mesh, bool coloured) {
   FineStructure f;
   const index_t nv = mesh.num_vertices(), nt = mesh.num_tets();
   std::vector<std::vector<index_t>> rows(nv);
@@ -23,6 +23,12 @@ FineStructure make_fine_structure(const LocalMesh& mesh) {
   f.diagonal_slots.resize(nv);
   for (index_t v = 0; v < nv; ++v) f.diagonal_slots[v] = f.pattern.find(v, v);
 
+  if (!coloured) {
+    f.colour_order.resize(nt);
+    for (index_t t = 0; t < nt; ++t) f.colour_order[t] = t;
+    f.colour_offsets = {0, nt};
+    return f;
+  }
   // Greedy colouring in tet order: each tet takes the smallest colour none
   // of its vertices' tets has taken yet.
   std::vector<std::vector<index_t>> used(nv);  // colours taken at each vertex, ascending

@@ -2,7 +2,10 @@
 // The finest level's operator structure, fixed for a run: its block pattern
 // over the rank's local vertices (the vertex pairs of its tets), where each
 // tet's 16 blocks lie, and a colouring of the tets that lets the assembly
-// run in parallel without two threads adding to one block.
+// run in parallel without two threads adding to one block. Colours cost
+// locality (each sweeps the whole operator: on the 82K helix 25 colours
+// made the assembly several times slower on one thread), so a run on one
+// host thread takes all tets as one colour, in their own order.
 #include <vector>
 
 #include "partition/local_mesh.hpp"
@@ -20,6 +23,6 @@ struct FineStructure {
   std::vector<index_t> colour_offsets;
 };
 
-FineStructure make_fine_structure(const LocalMesh& mesh);
+FineStructure make_fine_structure(const LocalMesh& mesh, bool coloured);
 
 }  // namespace descent
