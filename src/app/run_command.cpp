@@ -199,6 +199,8 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   const double solver_seconds = seconds_since_start() - mesh_seconds;
   if (talk && backend.kind != BackendKind::cpu)
     inform("backend %s: %s", to_string(backend.kind), sim.device_memory_report().c_str());
+  if (talk && sim.stepper().preconditioner())
+    inform("%s", sim.preconditioner_report(false).c_str());
 
   const LocalMesh& local = sim.local_mesh();
   const std::string identity =
@@ -387,6 +389,8 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
     inform("%s", run_memory.c_str());
     const std::string timing = sim.stepper_timing_report();
     if (!timing.empty()) inform("%s", timing.c_str());
+    const std::string preconditioning = sim.preconditioner_report(true);
+    if (!preconditioning.empty()) inform("%s", preconditioning.c_str());
     inform("wrote %s, %s and %s", frames.h5_path().c_str(), frames.xdmf_path().c_str(),
            stats.path().c_str());
   }

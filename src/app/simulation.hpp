@@ -63,6 +63,9 @@ class Simulation {
   const Stepper<Real>& stepper() const { return *solver_; }
   Stepper<Real>& stepper() { return *solver_; }
   std::string stepper_timing_report() const { return descent::stepper_timing_report(*solver_); }
+  std::string preconditioner_report(bool used) const {
+    return descent::preconditioner_report(*solver_, local_.num_tets(), used);
+  }
   // Device memory of a device stepper, per tet and per vertex; empty on the CPU.
   std::string device_memory_report() const {
     return descent::device_memory_report(*solver_, local_.num_tets(), local_.num_vertices());

@@ -176,12 +176,6 @@ std::string stepper_timing_report(const Stepper<Real>& stepper) {
     text +=
         detail::concat("; ", chebyshev->estimates(), " spectrum estimate(s) ",
                        format_percent(share(estimate)), " (", format_milliseconds(estimate), ")");
-  if (const Preconditioner<Real>* p = chebyshev->engine().preconditioner()) {
-    const PreconditionerStats s = p->stats();
-    text += detail::concat("; ", s.refreshes, " preconditioner refresh(es) ",
-                           format_milliseconds(s.refresh_seconds), ", ", s.applications,
-                           " applications ", format_milliseconds(s.apply_seconds));
-  }
   if (chebyshev->engine().on_device())
     text += detail::concat("; ", chebyshev->engine().graph_launches(), " graph launches");
   return text;
@@ -195,7 +189,32 @@ template std::unique_ptr<Stepper<float>> make_backend_stepper(LocalProblem<float
                                                               const BackendChoice&);
 template std::string device_memory_report(const Stepper<double>&, long long, long long);
 template std::string device_memory_report(const Stepper<float>&, long long, long long);
+template <class Real>
+std::string preconditioner_report(const Stepper<Real>& stepper, long long tets, bool used) {
+  const Preconditioner<Real>* p = stepper.preconditioner();
+  if (!p) return {};
+  const PreconditionerStats s = p->stats();
+  if (!used)
+    return detail::concat(p->describe(), "; ", s.memory_bytes >> 20, " MiB on rank 0 (",
+                          tets > 0 ? static_cast<long long>(s.memory_bytes) / tets : 0,
+                          " bytes per tet)");
+  auto mean_ms = [](double seconds, long count) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f", count > 0 ? 1e3 * seconds / count : 0.0);
+    return std::string(text);
+  };
+  return detail::concat("preconditioner: ", s.refreshes, " refreshes, ",
+                        format_milliseconds(s.refresh_seconds), " (",
+                        mean_ms(s.refresh_seconds, s.refreshes), " ms each); ",
+                        s.applications, " applications, ", format_milliseconds(s.apply_seconds),
+                        " (", mean_ms(s.apply_seconds, s.applications),
+                        " ms each); ", s.allreduces, " allreduces and ", s.gathers,
+                        " gathers of its own");
+}
+
 template std::string stepper_timing_report(const Stepper<double>&);
 template std::string stepper_timing_report(const Stepper<float>&);
+template std::string preconditioner_report(const Stepper<double>&, long long, bool);
+template std::string preconditioner_report(const Stepper<float>&, long long, bool);
 
 }  // namespace descent

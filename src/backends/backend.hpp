@@ -84,4 +84,10 @@ std::string device_memory_report(const Stepper<Real>& stepper, long long tets, l
 template <class Real>
 std::string stepper_timing_report(const Stepper<Real>& stepper);
 
+// The stepper's preconditioner other than Jacobi's: at set-up its levels and
+// memory per tet; after steps (`used`) also its refreshes and applications
+// with their mean cost and its collectives. Empty without one.
+template <class Real>
+std::string preconditioner_report(const Stepper<Real>& stepper, long long tets, bool used);
+
 }  // namespace descent

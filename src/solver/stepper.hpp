@@ -10,6 +10,7 @@
 
 #include "io/scene.hpp"
 #include "partition/local_mesh.hpp"
+#include "solver/preconditioners/preconditioner.hpp"
 
 namespace descent {
 
@@ -120,6 +121,10 @@ class Stepper {
 
   // LocalProblem::local_region_sums at the end of the last step.
   virtual std::vector<double> local_region_sums() = 0;
+
+  // The preconditioner other than Jacobi's the method applies (null with
+  // Jacobi's or none).
+  virtual const Preconditioner<Real>* preconditioner() const { return nullptr; }
 
   // Called with the current iterate after every iteration of a step (and
   // with k = 0 for the initial guess), for `descent study`: local dofs of q,

@@ -50,7 +50,7 @@ class MethodBase : public Stepper<Real> {
   // and after each rollback.
   void precondition(const Real* g, const Real* d, Real* z);
   // The preconditioner other than Jacobi's (null with Jacobi).
-  const Preconditioner<Real>* preconditioner() const { return preconditioner_.get(); }
+  const Preconditioner<Real>* preconditioner() const override { return preconditioner_.get(); }
 
   // This rank's share of a . b (owned dofs); sum with problem_.global_dots.
   double local_dot(const Real* a, const Real* b) const;

@@ -31,12 +31,35 @@ BlockPattern galerkin_pattern(const BlockPattern& a, const BlockPattern& p) {
   return pattern_from_rows(p.cols, rows);
 }
 
-template <class T>
-void galerkin_product(const BlockPattern& a, const T* a_values, const BlockMatrix<double>& p,
-                      const BlockPattern& c, std::vector<double>& c_values) {
-  const int fb = p.row_block, cb = p.col_block;
-  const std::size_t fbfb = static_cast<std::size_t>(fb) * fb, fbcb = static_cast<std::size_t>(fb) * cb,
-                    cbcb = static_cast<std::size_t>(cb) * cb;
+namespace {
+
+// out (R x C) += a (R x K) b (K x C), fixed sizes so the compiler keeps the
+// sums in registers; row-major.
+template <int R, int K, int C, class TA, class TB>
+inline void add_product(const TA* a, const TB* b, double* out) {
+  for (int r = 0; r < R; ++r)
+    for (int c = 0; c < C; ++c) {
+      double sum = 0;
+      for (int k = 0; k < K; ++k) sum += static_cast<double>(a[K * r + k]) * b[C * k + c];
+      out[C * r + c] += sum;
+    }
+}
+
+// out (R x C) += a^T b with a (K x R) and b (K x C).
+template <int R, int K, int C>
+inline void add_transposed_product(const double* a, const double* b, double* out) {
+  for (int r = 0; r < R; ++r)
+    for (int c = 0; c < C; ++c) {
+      double sum = 0;
+      for (int k = 0; k < K; ++k) sum += a[R * k + r] * b[C * k + c];
+      out[C * r + c] += sum;
+    }
+}
+
+template <int FB, int CB, class T>
+void galerkin_blocks(const BlockPattern& a, const T* a_values, const BlockMatrix<double>& p,
+                     const BlockPattern& c, std::vector<double>& c_values) {
+  constexpr std::size_t fbfb = FB * FB, fbcb = FB * CB, cbcb = CB * CB;
   c_values.assign(c.num_blocks() * cbcb, 0.0);
   std::vector<double> acc(static_cast<std::size_t>(p.pattern.cols) * fbcb);
   std::vector<index_t> mark(p.pattern.cols, -1), touched;
@@ -55,36 +78,50 @@ void galerkin_product(const BlockPattern& a, const T* a_values, const BlockMatri
           std::fill(out, out + fbcb, 0.0);
           touched.push_back(j);
         }
-        const double* puj = p.block(t);
-        for (int r = 0; r < fb; ++r)
-          for (int k = 0; k < fb; ++k) {
-            const double x = static_cast<double>(avu[fb * r + k]);
-            if (x == 0) continue;
-            for (int col = 0; col < cb; ++col) out[cb * r + col] += x * puj[cb * k + col];
-          }
+        add_product<FB, FB, CB>(avu, p.block(t), out);
       }
     }
     std::sort(touched.begin(), touched.end());
     for (index_t t = pp.offsets[v]; t < pp.offsets[v + 1]; ++t) {
       const index_t i = pp.columns[t];
       const double* pvi = p.block(t);
-      // Row i's slots in ascending column order, met as `touched` ascends.
+      // C is symmetric: the blocks right of the diagonal only (mirrored
+      // below). Row i's slots in ascending column order, met as `touched`
+      // ascends.
       index_t slot = c.offsets[i];
-      for (index_t j : touched) {
+      for (auto it = std::lower_bound(touched.begin(), touched.end(), i); it != touched.end(); ++it) {
+        const index_t j = *it;
         while (slot < c.offsets[i + 1] && c.columns[slot] < j) ++slot;
         DESCENT_VERIFY(slot < c.offsets[i + 1] && c.columns[slot] == j,
                        "Galerkin block outside its pattern");
-        double* cij = c_values.data() + cbcb * slot;
-        const double* apj = acc.data() + fbcb * j;
-        for (int k = 0; k < fb; ++k)
-          for (int r = 0; r < cb; ++r) {
-            const double x = pvi[cb * k + r];
-            if (x == 0) continue;
-            for (int col = 0; col < cb; ++col) cij[cb * r + col] += x * apj[cb * k + col];
-          }
+        add_transposed_product<CB, FB, CB>(pvi, acc.data() + fbcb * j,
+                                           c_values.data() + cbcb * slot);
       }
     }
   }
+  // C_ji = C_ij^T for the blocks left of the diagonal.
+  for (index_t i = 0; i < c.rows; ++i)
+    for (index_t s = c.offsets[i]; s < c.offsets[i + 1] && c.columns[s] < i; ++s) {
+      const index_t mirror = c.find(c.columns[s], i);
+      DESCENT_VERIFY(mirror >= 0, "Galerkin pattern not symmetric");
+      double* lower = c_values.data() + cbcb * s;
+      const double* upper = c_values.data() + cbcb * mirror;
+      for (int r = 0; r < CB; ++r)
+        for (int col = 0; col < CB; ++col) lower[CB * r + col] = upper[CB * col + r];
+    }
+}
+
+}  // namespace
+
+template <class T>
+void galerkin_product(const BlockPattern& a, const T* a_values, const BlockMatrix<double>& p,
+                      const BlockPattern& c, std::vector<double>& c_values) {
+  DESCENT_VERIFY(p.col_block == 6 && (p.row_block == 3 || p.row_block == 6),
+                 "Galerkin product of ", p.row_block, " x ", p.col_block, " blocks");
+  if (p.row_block == 3)
+    galerkin_blocks<3, 6>(a, a_values, p, c, c_values);
+  else
+    galerkin_blocks<6, 6>(a, a_values, p, c, c_values);
 }
 
 template void galerkin_product(const BlockPattern&, const double*, const BlockMatrix<double>&,

@@ -8,8 +8,9 @@
 // The pattern is fixed at set-up (galerkin_pattern); a refresh recomputes
 // the values only. One pass over A's rows on one thread: for each row v,
 // (A P)_v = sum_u A_vu P_u into a dense accumulator over coarse nodes, then
-// C_IJ += P_vI^T (A P)_vJ for every block I of P's row v (a fixed order, so
-// the result does not depend on the thread count).
+// C_IJ += P_vI^T (A P)_vJ for every block I of P's row v and J >= I (a fixed
+// order, so the result does not depend on the thread count); C is
+// symmetric, the blocks left of its diagonal are the mirror images.
 #include <vector>
 
 #include "solver/preconditioners/multilevel/block_sparse.hpp"
