@@ -203,13 +203,11 @@ std::string preconditioner_report(const Stepper<Real>& stepper, long long tets, 
     std::snprintf(text, sizeof text, "%.1f", count > 0 ? 1e3 * seconds / count : 0.0);
     return std::string(text);
   };
-  return detail::concat("preconditioner: ", s.refreshes, " refreshes, ",
-                        format_milliseconds(s.refresh_seconds), " (",
-                        mean_ms(s.refresh_seconds, s.refreshes), " ms each); ",
-                        s.applications, " applications, ", format_milliseconds(s.apply_seconds),
-                        " (", mean_ms(s.apply_seconds, s.applications),
-                        " ms each); ", s.allreduces, " allreduces and ", s.gathers,
-                        " gathers of its own");
+  return detail::concat(
+      "preconditioner: ", s.refreshes, " refreshes, ", format_milliseconds(s.refresh_seconds), " (",
+      mean_ms(s.refresh_seconds, s.refreshes), " ms each); ", s.applications, " applications, ",
+      format_milliseconds(s.apply_seconds), " (", mean_ms(s.apply_seconds, s.applications),
+      " ms each); ", s.allreduces, " allreduces and ", s.gathers, " gathers of its own");
 }
 
 template std::string stepper_timing_report(const Stepper<double>&);

@@ -174,8 +174,7 @@ void check_preconditioner(const SceneDocument& doc, const Scene& scene) {
   if (!preconditions)
     throw InputError(detail::concat(
         doc.where("solver.preconditioner"), ": solver.preconditioner = \"", solver.preconditioner,
-        "\" preconditions chebyshev, jacobi_gd, nesterov, ncg, lbfgs and linear_cg, not ",
-        method));
+        "\" preconditions chebyshev, jacobi_gd, nesterov, ncg, lbfgs and linear_cg, not ", method));
   if (method == "chebyshev" && solver.chebyshev_parameters == "fixed")
     throw InputError(detail::concat(
         doc.where("solver.preconditioner"), ": solver.preconditioner = \"", solver.preconditioner,
@@ -184,8 +183,8 @@ void check_preconditioner(const SceneDocument& doc, const Scene& scene) {
   if (method == "linear_cg" && doc.has("solver.linear_cg_preconditioner"))
     throw InputError(detail::concat(
         doc.where("solver.linear_cg_preconditioner"),
-        ": solver.linear_cg_preconditioner and solver.preconditioner = \"",
-        solver.preconditioner, "\" exclude each other (linear_cg then applies the latter)"));
+        ": solver.linear_cg_preconditioner and solver.preconditioner = \"", solver.preconditioner,
+        "\" exclude each other (linear_cg then applies the latter)"));
 }
 
 // Paper 2's method is linearly implicit Euler on corotated elements: it needs

@@ -203,8 +203,8 @@ DESCENT_HOST_DEVICE inline void project_isotropic_psd(const Mat3<Real>& f, Real 
   Real stretch[9];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      stretch[3 * i + j] = Real(0.5) * (rotated(kStretch[i], kStretch[j]) +
-                                        rotated(kStretch[j], kStretch[i]));
+      stretch[3 * i + j] =
+          Real(0.5) * (rotated(kStretch[i], kStretch[j]) + rotated(kStretch[j], kStretch[i]));
   project_psd(stretch, 3);
   Real blocks[81] = {};
   for (int i = 0; i < 3; ++i)

@@ -245,12 +245,12 @@ void gradient_dofs(Exec& exec, int stream, index_t num_dofs, VertexData<Real> vd
   exec.for_each(
       stream, 0, num_dofs, DESCENT_LAMBDA(index_t dof) {
         const index_t v = dof / 3;
-        g[dof] = held(vd.fixed, dof)
-                     ? Real(0)
-                     : dof_gradient(vd.terms, vd.mass[v], partial[3 * static_cast<std::int64_t>(v) +
-                                                                  dof % 3],
-                                    q[dof], vd.y[dof], vd.qt[dof], vd.force[dof],
-                                    static_cast<int>(dof % 3));
+        g[dof] =
+            held(vd.fixed, dof)
+                ? Real(0)
+                : dof_gradient(vd.terms, vd.mass[v],
+                               partial[3 * static_cast<std::int64_t>(v) + dof % 3], q[dof],
+                               vd.y[dof], vd.qt[dof], vd.force[dof], static_cast<int>(dof % 3));
       });
 }
 
@@ -262,10 +262,9 @@ void preconditioned_update(Exec& exec, int stream, index_t num_dofs, const std::
                            const IterationParams<Real>* params) {
   exec.for_each(
       stream, 0, num_dofs, DESCENT_LAMBDA(index_t dof) {
-        q_next[dof] = held(fixed, dof)
-                          ? q[dof]
-                          : chebyshev_dof(q[dof], q_prev[dof], dq[dof], Real(1), params->alpha,
-                                          params->omega);
+        q_next[dof] = held(fixed, dof) ? q[dof]
+                                       : chebyshev_dof(q[dof], q_prev[dof], dq[dof], Real(1),
+                                                       params->alpha, params->omega);
       });
 }
 
@@ -378,12 +377,11 @@ void lanczos_advance_preconditioned(Exec& exec, int stream, index_t num_dofs, Re
 // s <- y - alpha u - beta_prev u_prev (the three-term step in residual space).
 template <class Exec, class Real>
 void lanczos_residual_preconditioned(Exec& exec, int stream, index_t num_dofs, const Real* y,
-                                     const Real* u, const Real* u_prev, Real alpha,
-                                     Real beta_prev, Real* s) {
+                                     const Real* u, const Real* u_prev, Real alpha, Real beta_prev,
+                                     Real* s) {
   exec.for_each(
-      stream, 0, num_dofs, DESCENT_LAMBDA(index_t dof) {
-        s[dof] = y[dof] - alpha * u[dof] - beta_prev * u_prev[dof];
-      });
+      stream, 0, num_dofs,
+      DESCENT_LAMBDA(index_t dof) { s[dof] = y[dof] - alpha * u[dof] - beta_prev * u_prev[dof]; });
 }
 
 // sum over dofs [0, num_dofs) of a b (in double).
@@ -392,7 +390,9 @@ double inner_product(Exec& exec, int stream, index_t num_dofs, const Real* a, co
   return exec
       .reduce(
           stream, num_dofs,
-          DESCENT_LAMBDA(index_t dof)->Sum2 { return {static_cast<double>(a[dof]) * b[dof], 0.0}; })
+          DESCENT_LAMBDA(index_t dof)->Sum2 {
+            return {static_cast<double>(a[dof]) * b[dof], 0.0};
+          })
       .value;
 }
 

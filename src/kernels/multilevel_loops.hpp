@@ -141,7 +141,8 @@ void smoother_step(Exec& exec, int stream, index_t n, const Real* y, const Real*
 // r -= y.
 template <class Exec, class Real>
 void subtract(Exec& exec, int stream, index_t n, const Real* y, Real* r) {
-  exec.for_each(stream, 0, n, DESCENT_LAMBDA(index_t k) { r[k] -= y[k]; });
+  exec.for_each(
+      stream, 0, n, DESCENT_LAMBDA(index_t k) { r[k] -= y[k]; });
 }
 
 // b_c[I] = sum of P_vI^T r[v] over the owned fine nodes v < num_owned of

@@ -52,9 +52,7 @@ class ChebyshevDescent final : public Stepper<Real> {
     return problem_.local_region_sums(q_, y_, qt_);
   }
 
-  const Preconditioner<Real>* preconditioner() const override {
-    return engine_->preconditioner();
-  }
+  const Preconditioner<Real>* preconditioner() const override { return engine_->preconditioner(); }
   const IterationEngine<Real>& engine() const { return *engine_; }
   IterationEngine<Real>& engine() { return *engine_; }
 

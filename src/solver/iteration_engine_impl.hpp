@@ -172,7 +172,8 @@ class EngineImpl final : public IterationEngine<Real> {
       corner_diag_ = {};
     }
     if (spec.preconditioner == "multilevel") {
-      preconditioner_ = std::make_unique<MultilevelPreconditioner<Exec, Real>>(exec_, problem_, spec);
+      preconditioner_ =
+          std::make_unique<MultilevelPreconditioner<Exec, Real>>(exec_, problem_, spec);
     } else if constexpr (Exec::kHostMemory) {
       preconditioner_ = make_host_preconditioner(problem_, spec);
     } else {
@@ -224,10 +225,10 @@ class EngineImpl final : public IterationEngine<Real> {
 
   void lanczos_next(double beta) override {
     if (preconditioner_) {
-      loops::lanczos_advance_preconditioned(
-          exec_, kMain, 3 * nv_, static_cast<Real>(1.0 / beta), lanczos_residual_[kS].data(),
-          lanczos_[kW].data(), lanczos_residual_[kU].data(), lanczos_residual_[kUPrev].data(),
-          lanczos_[kV].data());
+      loops::lanczos_advance_preconditioned(exec_, kMain, 3 * nv_, static_cast<Real>(1.0 / beta),
+                                            lanczos_residual_[kS].data(), lanczos_[kW].data(),
+                                            lanczos_residual_[kU].data(),
+                                            lanczos_residual_[kUPrev].data(), lanczos_[kV].data());
       return;
     }
     loops::lanczos_advance(exec_, kMain, 3 * nv_, static_cast<Real>(1.0 / beta),
@@ -459,7 +460,8 @@ class EngineImpl final : public IterationEngine<Real> {
     assemble([&](int stream, index_t begin,
                  index_t end) { element_pass(stream, q, begin, end, false, 3); },
              false, 3);
-    loops::gradient_dofs(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), q, gradient_.data());
+    loops::gradient_dofs(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), q,
+                         gradient_.data());
     preconditioner_->apply(gradient_.data(), direction_.data());
     loops::preconditioned_update(exec_, kMain, 3 * nv_, fixed_.data(), direction_.data(), q,
                                  q_[(c + 2) % 3].data(), q_[(c + 1) % 3].data(), params);
@@ -496,11 +498,11 @@ class EngineImpl final : public IterationEngine<Real> {
   Array<Real> mass_, floor_, force_, y_, qt_, checked_, diag_, partial_;
   Array<std::uint8_t> fixed_;
   Array<Real> q_[3];
-  Array<Real> lanczos_[4];  // v, v_prev, w, y: made at the first estimate
+  Array<Real> lanczos_[4];           // v, v_prev, w, y: made at the first estimate
   Array<Real> lanczos_residual_[3];  // s, u, u_prev: with a preconditioner other than D^-1
   std::unique_ptr<Preconditioner<Real>> preconditioner_;
   Array<Real> gradient_, direction_;  // g and P^-1 g, with that preconditioner
-  Array<Real> stage_;       // exchange (pinned host)
+  Array<Real> stage_;                 // exchange (pinned host)
   Array<Real> stage_q_, stage_y_, stage_qt_, stage_force_, stage_vector_;  // (pinned host)
   Array<loops::IterationParams<Real>> params_, params_host_;
 };

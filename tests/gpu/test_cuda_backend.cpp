@@ -59,8 +59,7 @@ void expect_matches_cpu(Assembly assembly, int frames, double tolerance,
   EXPECT_LE(gap, tolerance * diagonal);
   std::printf("[ gpu vs cpu ] %s, %s, %s, %d frame(s): max gap %.3g (%.3g of the diagonal)\n",
               sizeof(Real) == 4 ? "float" : "double", to_string(assembly),
-              scene.solver.preconditioner.c_str(), frames, gap,
-              gap / diagonal);
+              scene.solver.preconditioner.c_str(), frames, gap, gap / diagonal);
 }
 
 TEST(CudaBackend, OneFrameDoubleMatchesCpu) {

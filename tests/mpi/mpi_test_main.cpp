@@ -2,11 +2,10 @@
 // whole run, only rank 0 prints (every rank with DESCENT_TEST_ALL_RANKS=1 in
 // the environment, to see another rank's failure), and every rank's failures
 // count toward the exit code so mpiexec reports a failure seen on any rank.
-#include <cstdlib>
-
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "solver/petsc/petsc_session.hpp"

@@ -38,8 +38,8 @@ int MPI_Allgather(const void* send, int scount, MPI_Datatype stype, void* recv, 
   ++g_other_collectives;
   return PMPI_Allgather(send, scount, stype, recv, rcount, rtype, comm);
 }
-int MPI_Allgatherv(const void* send, int scount, MPI_Datatype stype, void* recv,
-                   const int* rcounts, const int* displs, MPI_Datatype rtype, MPI_Comm comm) {
+int MPI_Allgatherv(const void* send, int scount, MPI_Datatype stype, void* recv, const int* rcounts,
+                   const int* displs, MPI_Datatype rtype, MPI_Comm comm) {
   ++g_allgatherv;
   return PMPI_Allgatherv(send, scount, stype, recv, rcounts, displs, rtype, comm);
 }

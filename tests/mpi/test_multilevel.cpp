@@ -142,7 +142,8 @@ TEST(Multilevel, VcycleIsSymmetricPositiveDefiniteAndTheSameOnEveryRankCount) {
     p1.refresh(alone.state().q.data());
     const auto& u1 = p1.hierarchy().global_unknowns;
     one_unknowns[0] = static_cast<long long>(u1.size());
-    std::copy(u1.begin(), u1.begin() + std::min(u1.size(), unknowns.size()), one_unknowns.begin() + 1);
+    std::copy(u1.begin(), u1.begin() + std::min(u1.size(), unknowns.size()),
+              one_unknowns.begin() + 1);
     const std::vector<double> x1 = draw(alone.problem(), 11);
     std::vector<double> z1(x1.size());
     p1.apply(x1.data(), z1.data());
@@ -208,13 +209,14 @@ TEST(Multilevel, DenseSpectrumLiesInTheTheoryAndInTheEstimate) {
   MultilevelPreconditioner<HostExec, double> p(exec, problem, scene.solver);
   p.refresh(q.data());
   ASSERT_GE(p.hierarchy().levels.size(), 2u);
-  const Eigen::MatrixXd b = dense(problem, free, [&](const double* x, double* y) { p.apply(x, y); });
+  const Eigen::MatrixXd b =
+      dense(problem, free, [&](const double* x, double* y) { p.apply(x, y); });
   HessianOperator<double> hessian(problem);
   hessian.assemble(q.data(), true);
   const Eigen::MatrixXd projected =
       dense(problem, free, [&](const double* x, double* y) { hessian.apply(x, y); });
-  const Eigen::MatrixXd exact = dense(
-      problem, free, [&](const double* x, double* y) { hessian.product(q.data(), x, y); });
+  const Eigen::MatrixXd exact =
+      dense(problem, free, [&](const double* x, double* y) { hessian.product(q.data(), x, y); });
   const Eigen::VectorXd theory = product_spectrum(b, projected);
   const Eigen::VectorXd spectrum = product_spectrum(b, exact);
   EXPECT_GT(theory.minCoeff(), 0);
@@ -257,7 +259,8 @@ TEST(Multilevel, ChebyshevIteratesAreThoseOfOneRank) {
   double worst = 0;
   for (index_t v = 0; v < local.num_vertices(); ++v)
     for (int i = 0; i < 3; ++i)
-      worst = std::max(worst, std::abs(sim.state().q[3 * v + i] - one[3 * local.global_vertex[v] + i]));
+      worst =
+          std::max(worst, std::abs(sim.state().q[3 * v + i] - one[3 * local.global_vertex[v] + i]));
   MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
   if (world_rank() == 0)
     std::printf("[ multilevel ] %d rank(s): positions after 3 steps within %.2e m of one rank's\n",

@@ -75,7 +75,7 @@ class MethodBase : public Stepper<Real> {
   const std::vector<std::uint8_t>& fixed_;
   std::unique_ptr<Preconditioner<Real>> preconditioner_;
   std::vector<Real> scratch_;  // P^-1 g in place
-  int steps_since_refresh_;  // a run rebuilds P^-1 at its first step
+  int steps_since_refresh_;    // a run rebuilds P^-1 at its first step
   const Real* step_velocity_ = nullptr;
   bool own_guess_;
   // Step-control state of the current step.

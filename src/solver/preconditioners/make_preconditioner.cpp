@@ -13,8 +13,8 @@ std::unique_ptr<Preconditioner<Real>> make_host_preconditioner(LocalProblem<Real
   if (spec.preconditioner == "multilevel") return make_host_multilevel(problem, spec);
   if (spec.preconditioner == "petsc_gamg") return make_petsc_gamg_preconditioner(problem, spec);
   // The scene checks admit only the preconditioners listed here.
-  throw LogicError(detail::concat("no preconditioner for solver.preconditioner = ",
-                                  spec.preconditioner));
+  throw LogicError(
+      detail::concat("no preconditioner for solver.preconditioner = ", spec.preconditioner));
 }
 
 template std::unique_ptr<Preconditioner<double>> make_host_preconditioner(LocalProblem<double>&,

@@ -21,7 +21,8 @@ constexpr double kOffset[3] = {0.3819660112501051, 0.2360679774997897, 0.1458980
 
 Cell cell_of(const double* x, double cell) {
   Cell c;
-  for (int i = 0; i < 3; ++i) c[i] = static_cast<std::int64_t>(std::floor(x[i] / cell + kOffset[i]));
+  for (int i = 0; i < 3; ++i)
+    c[i] = static_cast<std::int64_t>(std::floor(x[i] / cell + kOffset[i]));
   return c;
 }
 
@@ -71,8 +72,8 @@ Aggregates aggregate_by_cells(MPI_Comm comm, const std::vector<global_index_t>& 
   std::vector<CellRecord> records;
   std::vector<int> homes;
   for (std::size_t v = 0; v < n; ++v) {
-    records.push_back({cells[v], global[v], -1, {position[3 * v], position[3 * v + 1],
-                                                 position[3 * v + 2]}});
+    records.push_back(
+        {cells[v], global[v], -1, {position[3 * v], position[3 * v + 1], position[3 * v + 2]}});
     homes.push_back(home_of(cells[v], size));
   }
   for (index_t r = 0; r < graph.rows; ++r)

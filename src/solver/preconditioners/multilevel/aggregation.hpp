@@ -20,7 +20,7 @@
 namespace descent {
 
 struct Aggregates {
-  std::vector<global_index_t> root;  // per local node: its aggregate's root (global id)
+  std::vector<global_index_t> root;   // per local node: its aggregate's root (global id)
   std::vector<double> root_position;  // 3 per local node: the root's position
 };
 

@@ -71,7 +71,8 @@ void CoarseSolver::factor(const BlockPattern& pattern, const std::vector<double>
       for (int i = 0; i < block_; ++i)
         for (int j = 0; j < block_; ++j) {
           const double value = values[static_cast<std::size_t>(bb) * s + block_ * i + j];
-          const long long row = index_[r] * block_ + i, col = index_[pattern.columns[s]] * block_ + j;
+          const long long row = index_[r] * block_ + i,
+                          col = index_[pattern.columns[s]] * block_ + j;
           if (value != 0 && row >= col)
             mine.push_back({static_cast<std::int32_t>(row), static_cast<std::int32_t>(col), value});
         }
@@ -115,7 +116,8 @@ void CoarseSolver::solve(const double* b, double* x) {
   // Rank by rank, so every rank adds the same terms in the same order.
   std::fill(rhs_.begin(), rhs_.end(), 0.0);
   for (std::size_t e = 0; e < gathered_index_.size(); ++e)
-    for (int j = 0; j < block_; ++j) rhs_[gathered_index_[e] * block_ + j] += gathered_[block_ * e + j];
+    for (int j = 0; j < block_; ++j)
+      rhs_[gathered_index_[e] * block_ + j] += gathered_[block_ * e + j];
   Factor& f = *factor_;
   for (long long k = 0; k < unknowns_; ++k) f.rhs[k] = rhs_[k];
   f.solution = f.llt.solve(f.rhs);

@@ -45,7 +45,7 @@ class CoarseSolver {
   MPI_Comm comm_;
   int block_;
   std::vector<std::uint8_t> owned_inactive_;  // per local unknown of an owned node
-  std::vector<long long> index_;  // per local node: its global index
+  std::vector<long long> index_;              // per local node: its global index
   long long unknowns_ = 0;
   std::vector<double> rhs_;
   // Every rank's local nodes' global indices, rank after rank (set-up), and

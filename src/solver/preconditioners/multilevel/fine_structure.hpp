@@ -14,8 +14,8 @@
 namespace descent {
 
 struct FineStructure {
-  BlockPattern pattern;                // 3x3 blocks
-  std::vector<index_t> tet_slots;      // 16 per tet: block (corner a, corner b) at [16 t + 4 a + b]
+  BlockPattern pattern;            // 3x3 blocks
+  std::vector<index_t> tet_slots;  // 16 per tet: block (corner a, corner b) at [16 t + 4 a + b]
   std::vector<index_t> diagonal_slots;  // per vertex
   // Tets by colour: colour c's tets are colour_order[colour_offsets[c] ..
   // colour_offsets[c + 1]); no two of one colour share a vertex.

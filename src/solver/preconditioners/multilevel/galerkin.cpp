@@ -89,7 +89,8 @@ void galerkin_blocks(const BlockPattern& a, const T* a_values, const BlockMatrix
       // below). Row i's slots in ascending column order, met as `touched`
       // ascends.
       index_t slot = c.offsets[i];
-      for (auto it = std::lower_bound(touched.begin(), touched.end(), i); it != touched.end(); ++it) {
+      for (auto it = std::lower_bound(touched.begin(), touched.end(), i); it != touched.end();
+           ++it) {
         const index_t j = *it;
         while (slot < c.offsets[i + 1] && c.columns[slot] < j) ++slot;
         DESCENT_VERIFY(slot < c.offsets[i + 1] && c.columns[slot] == j,
@@ -116,8 +117,8 @@ void galerkin_blocks(const BlockPattern& a, const T* a_values, const BlockMatrix
 template <class T>
 void galerkin_product(const BlockPattern& a, const T* a_values, const BlockMatrix<double>& p,
                       const BlockPattern& c, std::vector<double>& c_values) {
-  DESCENT_VERIFY(p.col_block == 6 && (p.row_block == 3 || p.row_block == 6),
-                 "Galerkin product of ", p.row_block, " x ", p.col_block, " blocks");
+  DESCENT_VERIFY(p.col_block == 6 && (p.row_block == 3 || p.row_block == 6), "Galerkin product of ",
+                 p.row_block, " x ", p.col_block, " blocks");
   if (p.row_block == 3)
     galerkin_blocks<3, 6>(a, a_values, p, c, c_values);
   else

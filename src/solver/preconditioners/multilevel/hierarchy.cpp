@@ -157,16 +157,19 @@ void complete_shared_rows(MPI_Comm comm, const HaloPattern& halo, KeyedRows& row
     for (index_t v : halo.shared_with[n]) {
       Term t{halo.neighbours[n], {}, {}};
       const std::size_t keys = static_cast<std::size_t>(buf[at++]);
-      for (std::size_t k = 0; k < keys; ++k) t.keys.push_back(static_cast<global_index_t>(buf[at++]));
+      for (std::size_t k = 0; k < keys; ++k)
+        t.keys.push_back(static_cast<global_index_t>(buf[at++]));
       t.values.assign(buf.begin() + at, buf.begin() + at + keys * width);
       at += keys * width;
       terms[v - first].push_back(std::move(t));
     }
   }
-  DESCENT_MPI_CHECK(MPI_Waitall(static_cast<int>(neighbours), requests.data(), MPI_STATUSES_IGNORE));
+  DESCENT_MPI_CHECK(
+      MPI_Waitall(static_cast<int>(neighbours), requests.data(), MPI_STATUSES_IGNORE));
   for (index_t v = first; v < halo.num_entries; ++v) {
     auto& list = terms[v - first];
-    std::sort(list.begin(), list.end(), [](const Term& a, const Term& b) { return a.rank < b.rank; });
+    std::sort(list.begin(), list.end(),
+              [](const Term& a, const Term& b) { return a.rank < b.rank; });
     rows.keys[v].clear();
     rows.values[v].clear();
     for (const Term& t : list)
@@ -224,7 +227,8 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
     const double* b = &motions[static_cast<std::size_t>(v) * k * kModes];
     for (int i = 0; i < kModes; ++i)
       for (int j = 0; j < kModes; ++j)
-        for (int row = 0; row < k; ++row) a.r[kModes * i + j] += b[kModes * row + i] * b[kModes * row + j];
+        for (int row = 0; row < k; ++row)
+          a.r[kModes * i + j] += b[kModes * row + i] * b[kModes * row + j];
   }
   Outbox<AggregateRecord> out(size);
   for (const auto& [id, a] : mine) out.count(home_of(id, size));
@@ -293,7 +297,8 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
       std::fill(product.begin(), product.end(), 0.0);
       for (int r = 0; r < k; ++r)
         for (int c = 0; c < k; ++c)
-          for (int j = 0; j < kModes; ++j) product[kModes * r + j] += a[k * r + c] * pt[kModes * c + j];
+          for (int j = 0; j < kModes; ++j)
+            product[kModes * r + j] += a[k * r + c] * pt[kModes * c + j];
       add_to_row(rows.keys[v], rows.values[v], rows.width, agg.root[u], product.data());
     }
   complete_shared_rows(comm, fine.halo, rows);
@@ -316,7 +321,8 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
   Outbox<AggregateRecord> ask(size);
   for (global_index_t id : coarse) ask.count(home_of(id, size));
   ask.allocate();
-  for (global_index_t id : coarse) ask.place(home_of(id, size), AggregateRecord{id, {}, {}, 0, rank});
+  for (global_index_t id : coarse)
+    ask.place(home_of(id, size), AggregateRecord{id, {}, {}, 0, rank});
   const Inbox<AggregateRecord> asked = exchange(comm, ask);
   std::map<global_index_t, std::vector<int>> holders;  // at the home: ranks asking, ascending
   for (int r = 0; r < size; ++r)
@@ -376,7 +382,8 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
     const AggregateRecord& a = *about.at(layout.global[c]);
     std::copy(a.centre, a.centre + 3, &layout.position[3 * c]);
     for (int j = 0; j < kModes; ++j) layout.active[kModes * c + j] = a.kept >> j & 1u;
-    std::copy(a.r, a.r + kModes * kModes, &result.near_null[static_cast<std::size_t>(kModes) * kModes * c]);
+    std::copy(a.r, a.r + kModes * kModes,
+              &result.near_null[static_cast<std::size_t>(kModes) * kModes * c]);
   }
   layout.halo.rank = rank;
   layout.halo.first_shared = layout.num_interior;
@@ -402,7 +409,8 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
     // In ascending global id of the coarse node, not local index: the
     // prolongation sums a row in this order, and every sharer of a node
     // must add the same terms in the same order.
-    for (std::size_t e = 0; e < rows.keys[v].size(); ++e) p.pattern.columns.push_back(local.at(rows.keys[v][e]));
+    for (std::size_t e = 0; e < rows.keys[v].size(); ++e)
+      p.pattern.columns.push_back(local.at(rows.keys[v][e]));
     p.values.insert(p.values.end(), rows.values[v].begin(), rows.values[v].end());
     p.pattern.offsets[v + 1] = static_cast<index_t>(p.pattern.columns.size());
     // The row now lives in P: release it (P and the rows would double the peak).
@@ -448,7 +456,8 @@ Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, BlockMatrix<doub
   while (h.global_unknowns.back() > options.coarse_size &&
          static_cast<int>(h.levels.size()) < options.max_levels) {
     Coarsening next = coarsen(comm, h.levels.back(), rest, near_null, cell);
-    const long long unknowns = global_sum(comm, static_cast<long long>(kModes) * next.layout.num_owned);
+    const long long unknowns =
+        global_sum(comm, static_cast<long long>(kModes) * next.layout.num_owned);
     if (unknowns > kMinShrink * static_cast<double>(h.global_unknowns.back())) break;
     BlockMatrix<double> coarse_rest;
     coarse_rest.row_block = coarse_rest.col_block = kModes;

@@ -52,15 +52,15 @@ struct LevelLayout {
   int block = 3;  // unknowns per node: 3 at the finest level, 6 (rigid motions) above
   std::vector<global_index_t> global;  // global id per local node (finest: the vertex's)
   index_t num_interior = 0, num_owned = 0;
-  std::vector<double> position;       // 3 per node: the vertex's, or its aggregate root's
-  std::vector<std::uint8_t> active;   // per unknown: 0 for held dofs and dropped modes
+  std::vector<double> position;      // 3 per node: the vertex's, or its aggregate root's
+  std::vector<std::uint8_t> active;  // per unknown: 0 for held dofs and dropped modes
   HaloPattern halo;
 
   index_t num_nodes() const { return static_cast<index_t>(global.size()); }
 };
 
 struct HierarchyOptions {
-  double cell = 0;        // the finest level's aggregation cell (metres)
+  double cell = 0;               // the finest level's aggregation cell (metres)
   long long coarse_size = 2000;  // unknowns at most of the coarsest level
   int max_levels = 16;
 };

@@ -46,7 +46,8 @@ std::vector<double> partial_diagonal(const BlockPattern& pattern, const T* value
     const index_t s = pattern.find(r, r);
     if (s < 0) continue;
     for (int i = 0; i < block; ++i)
-      d[static_cast<std::size_t>(block) * r + i] = static_cast<double>(values[bb * s + (block + 1) * i]);
+      d[static_cast<std::size_t>(block) * r + i] =
+          static_cast<double>(values[bb * s + (block + 1) * i]);
   }
   return d;
 }

@@ -270,10 +270,9 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
                                                 tet_slots_.data(), fixed_.data(), f.values.data());
             else
               loops::add_element_hessians<false>(exec_, kStream, model, conversion_,
-                                                 interpolant_.data(), x, tets_.data(),
-                                                 rest_.data(), tet_order_.data(), colours[c],
-                                                 colours[c + 1], tet_slots_.data(), fixed_.data(),
-                                                 f.values.data());
+                                                 interpolant_.data(), x, tets_.data(), rest_.data(),
+                                                 tet_order_.data(), colours[c], colours[c + 1],
+                                                 tet_slots_.data(), fixed_.data(), f.values.data());
           }
         },
         model_);
@@ -335,7 +334,7 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
         };
       else
         t.product = [pattern, values = host_values_[l].data(), halo, block](const double* x,
-                                                                          double* y) {
+                                                                            double* y) {
           partial_product(*pattern, values, block, x, y);
           halo->sum(y, block);
         };
@@ -348,7 +347,8 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
       level.upper = kUpperMargin * largest[l];
       level.lower = level.upper / kSmootherRange;
       upload_into(level.inv, inverse[l]);
-      if (l > 0 && !views(level.values, host_values_[l])) upload_into(level.values, host_values_[l]);
+      if (l > 0 && !views(level.values, host_values_[l]))
+        upload_into(level.values, host_values_[l]);
     }
     if (last == 0) {
       const std::size_t n = 9 * fine_.pattern.num_blocks();
@@ -536,8 +536,8 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
   Array<TetRest<Real>> rest_;
   Array<Real> mass_, interpolant_;
   Array<std::uint8_t> fixed_;
-  Array<Real> coarse_stage_;  // a device's coarsest vectors, on the host (pinned)
-  std::vector<Real> host_fine_;                   // a device's finest operator, on the host
+  Array<Real> coarse_stage_;     // a device's coarsest vectors, on the host (pinned)
+  std::vector<Real> host_fine_;  // a device's finest operator, on the host
   std::vector<std::vector<double>> host_values_;  // [l >= 1]: the Galerkin products
   std::vector<std::unique_ptr<Halo<double>>> host_halos_;
   std::vector<Real> staging_;
