@@ -45,6 +45,9 @@ def run_once(binary, ranks, threads, preset, iterations, frames, out_dir, parame
     cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none", str(binary), "run", "--overwrite",
            "--set", f'mesh.helix.preset="{preset}"', "--set", f"solver.iterations={iterations}",
            "--set", f"time.frames={frames}", "--set", f"output.every={frames + 1}",
+           # The Jacobi iteration's throughput (the multilevel preconditioner's:
+           # bench/results/multilevel).
+           "--set", 'solver.preconditioner="jacobi"',
            "--out", str(out_dir)]
     for key in PARAMETER_KEYS[parameters]:
         cmd += ["--set", key]

@@ -62,6 +62,31 @@ The measured cost per tet-iteration c already contains the vertex update
 and the energy evaluations of the checks (it is the CPU time of whole steps
 divided by tets x iterations), so those scale with the tets.
 
+With the multilevel preconditioner (docs/multilevel.md; the cases
+"multilevel" below) an iteration also applies one V-cycle and each step
+rebuilds it once (the refresh), amortised over the step's iterations:
+
+  compute  = c * tets * (k_it + k_ref / its)   k_it: an iteration with its
+             V-cycle, k_ref: a refresh, both in Jacobi iterations' cost per
+             tet, MEASURED here (--ml-iteration-factor, --ml-refresh-factor);
+             its: iterations per step (--ml-iterations-per-step, the main job's)
+  finest   the gradient's exchange (w = 3) and 2 d more (the smoother's
+           products, d = degree) on the same pairs
+  level l  (1 <= l < L - 1: the smoothed coarse levels) 2 d + 1 exchanges of
+           6 values per pair, neighbours as the finest's, pairs scaled from the
+           finest's by (nodes_l / vertices)^(2/3) (a halo is a surface) times
+           --ml-halo-widening (smoothed P reaches one aggregate further)
+  coarsest one MPI_Allgatherv per V-cycle: ceil(log2 P) latencies plus
+           (coarsest nodes + 4 P) * 6 * s bytes at the node's bandwidth share
+           (each rank's partial right-hand side; a rank holds a few coarsest
+           nodes at least)
+  refresh  per step (amortised): 21 + 1 small allgathers (the smoother bounds,
+           the coarsest sizes) and the coarsest operator's MPI_Allgatherv,
+           (its lower half + 4 P blocks of 36) * 16 bytes (row, column, value)
+The hierarchy's sizes come from --ml-levels (nodes per level as the 1M
+helix's run reported them, scaled with the mesh; one more level per factor
+--ml-level-ratio of unknowns beyond it).
+
 Strong scaling: the 10.36M-tet helix on P ranks, efficiency T(1) / (P T(P)).
 Weak scaling: N tets per rank (one CPU case, one GPU case). Each part of the
 P-part partition is scaled to N / (10.36M / P) times its tets (its imbalance
@@ -155,10 +180,56 @@ class CpuCost:
         return f"{per_size} (medians measured here, interpolated in log tets)"
 
 
-def part_time(part, ranks, case, args):
+def multilevel_extra(part, ranks, case, args, total_tets):
+    """Seconds per iteration the multilevel preconditioner adds to part:
+    (compute, exposed exchange, collectives)."""
+    c = case["ns"](part["tets"]) * 1e-9
+    compute = c * part["tets"] * (args.ml_iteration_factor - 1 +
+                                  args.ml_refresh_factor / args.ml_iterations_per_step)
+    bytes_per_value = case["bytes_per_value"]
+    bandwidth = case["node_bandwidth"] * 1e9 / min(ranks, case["ranks_per_node"])
+    d = args.ml_degree
+    exchange = 0.0
+    if part["neighbours"] > 0:
+        def one(pairs, width):
+            return (part["neighbours"] * args.latency_us * 1e-6 + pairs * width * bytes_per_value / bandwidth
+                    + 2 * pairs * width * args.pack_ns * 1e-9)
+        exchange += 2 * d * one(part["pairs"], 3)
+        nodes, coarsest = multilevel_levels(total_tets, args)
+        vertices = nodes[0]
+        for level_nodes in nodes[1:]:
+            pairs = part["pairs"] * (level_nodes / vertices) ** (2 / 3) * args.ml_halo_widening
+            exchange += (2 * d + 1) * one(pairs, 6)
+    else:
+        nodes, coarsest = multilevel_levels(total_tets, args)
+    log_p = math.ceil(math.log2(ranks)) if ranks > 1 else 0
+    gather = 0.0
+    if ranks > 1:
+        gather = log_p * args.allreduce_latency_us * 1e-6 + (coarsest + 4 * ranks) * 6 * 8 / bandwidth
+        refresh = (22 * log_p * args.allreduce_latency_us * 1e-6 +
+                   (coarsest * args.ml_coarsest_row_blocks * 36 / 2 + 4 * ranks * 36) * 16 / bandwidth)
+        gather += refresh / args.ml_iterations_per_step
+    return compute, exchange, gather
+
+
+def multilevel_levels(total_tets, args):
+    """Nodes of the hierarchy's smoothed levels (vertices first) for a mesh of
+    total_tets tets, and the coarsest level's nodes."""
+    measured_tets, *measured = args.ml_levels
+    scale = total_tets / measured_tets
+    nodes = [n * scale for n in measured]
+    # Coarsen further while the coarsest exceeds the coarse size.
+    while nodes[-1] * 6 > args.ml_coarse_size:
+        nodes.append(nodes[-1] / args.ml_level_ratio)
+    return nodes[:-1], nodes[-1]
+
+
+def part_time(part, ranks, case, args, total_tets=0):
     """Modelled seconds per iteration of one part: (with overlap, without,
     and the terms)."""
     width = 3 + 3 / args.hessian_interval
+    if case.get("multilevel"):
+        width = 3.0  # no diagonal is refreshed
     c = case["ns"](part["tets"]) * 1e-9
     t_boundary = c * part["boundary"]
     t_interior = c * (part["tets"] - part["boundary"])
@@ -180,11 +251,16 @@ def part_time(part, ranks, case, args):
         # The host packs and posts, computes the interior, then waits and sums.
         hidden, exposed = t_net, t_pack + t_sum
     t_allreduce = math.ceil(math.log2(ranks)) * args.allreduce_latency_us * 1e-6 / args.check_interval
+    ml_compute = ml_exchange = 0.0
+    if case.get("multilevel"):
+        # The V-cycle's exchanges wait on its own products: nothing hides them.
+        ml_compute, ml_exchange, ml_gather = multilevel_extra(part, ranks, case, args, total_tets)
+        t_allreduce += ml_gather
     return {
-        "overlap": t_boundary + exposed + max(t_interior, hidden) + t_allreduce,
-        "no_overlap": t_boundary + t_interior + exposed + hidden + t_allreduce,
-        "compute": t_boundary + t_interior, "halo": exposed + hidden, "net": t_net, "allreduce": t_allreduce,
-        "bytes_sent": part["pairs"] * width * bytes_per_value,
+        "overlap": t_boundary + exposed + max(t_interior, hidden) + t_allreduce + ml_compute + ml_exchange,
+        "no_overlap": t_boundary + t_interior + exposed + hidden + t_allreduce + ml_compute + ml_exchange,
+        "compute": t_boundary + t_interior + ml_compute, "halo": exposed + hidden + ml_exchange, "net": t_net,
+        "allreduce": t_allreduce, "bytes_sent": part["pairs"] * width * bytes_per_value,
     }
 
 
@@ -211,7 +287,8 @@ def model_case(case, partitions, args):
             parts = partitions[ranks]
         else:
             parts = scaled_parts(partitions[ranks], case["tets_per_rank"])
-        times = [(part_time(p, ranks, case, args), p) for p in parts]
+        mesh_tets = total_tets if case["mode"] == "strong" else case["tets_per_rank"] * ranks
+        times = [(part_time(p, ranks, case, args, mesh_tets), p) for p in parts]
         slowest, part = max(times, key=lambda tp: tp[0]["overlap"])
         worst_no_overlap = max(t["no_overlap"] for t, _ in times)
         rows.append({
@@ -291,7 +368,8 @@ def plot(rows, cases, out):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, (strong_axes, weak_axes, efficiency_axes) = plt.subplots(1, 3, figsize=(16, 4.8))
-    colours = {"strong_cpu": "C0", "weak_cpu": "C1", "weak_gpu": "C2"}
+    colours = {"strong_cpu": "C0", "weak_cpu": "C1", "weak_gpu": "C2", "strong_cpu_multilevel": "C3",
+               "weak_cpu_multilevel": "C4"}
     for case in cases:
         mine = [r for r in rows if r["case"] == case["name"]]
         ranks = [r["ranks"] for r in mine]
@@ -360,6 +438,22 @@ def main():
     parser.add_argument("--weak-cpu-tets", type=int, default=323_690,
                         help="tets per CPU rank (default: the 10.36M helix's mean part at P = 32)")
     parser.add_argument("--weak-gpu-tets", type=int, default=5_000_000, help="tets per GPU")
+    parser.add_argument("--ml-iteration-factor", type=float, default=3.0,
+                        help="MEASURED: an iteration with its V-cycle in Jacobi iterations' cost per tet")
+    parser.add_argument("--ml-refresh-factor", type=float, default=30.0,
+                        help="MEASURED: one refresh in Jacobi iterations' cost per tet")
+    parser.add_argument("--ml-iterations-per-step", type=float, default=16,
+                        help="MEASURED: iterations per step with multilevel (the main job at 1e-2)")
+    parser.add_argument("--ml-degree", type=int, default=2, help="solver.multilevel_smoother_degree")
+    parser.add_argument("--ml-levels", type=float, nargs="+", default=[1.0e6, 1.7e5, 1.0e4, 1.2e3],
+                        help="MEASURED: tets of a run, then nodes per level (vertices first, coarsest last)")
+    parser.add_argument("--ml-level-ratio", type=float, default=8.0,
+                        help="ASSUMED: nodes of a level over the next one's, beyond the measured levels")
+    parser.add_argument("--ml-coarse-size", type=float, default=2000, help="solver.multilevel_coarse_size")
+    parser.add_argument("--ml-coarsest-row-blocks", type=float, default=40,
+                        help="MEASURED: 6x6 blocks per row of the coarsest operator")
+    parser.add_argument("--ml-halo-widening", type=float, default=2.0,
+                        help="ASSUMED: a coarse level's shared nodes over the surface scaling's")
     parser.add_argument("--out", type=Path, default=RESULTS)
     args = parser.parse_args()
 
@@ -380,6 +474,11 @@ def main():
         dict(gpu, name="weak_gpu", mode="weak", tets_per_rank=args.weak_gpu_tets, label="weak GPU (assumed cost)",
              title=f"Weak scaling, GPU: {args.weak_gpu_tets:,} tets per GPU (float; GPU cost ASSUMED, "
                    "not measured)"),
+        dict(cpu, name="strong_cpu_multilevel", mode="strong", label="strong CPU, multilevel", multilevel=True,
+             title=f"Strong scaling, CPU, multilevel preconditioner: the {total:,}-tet helix on P cores"),
+        dict(cpu, name="weak_cpu_multilevel", mode="weak", tets_per_rank=args.weak_cpu_tets,
+             label="weak CPU, multilevel", multilevel=True,
+             title=f"Weak scaling, CPU, multilevel preconditioner: {args.weak_cpu_tets:,} tets per core"),
     ]
     rows = [r for case in cases for r in model_case(case, partitions, args)]
     assumptions = {
@@ -398,6 +497,13 @@ def main():
         "pack and rank-order sums (ASSUMED)": f"{args.pack_ns} ns per value",
         "weak scaling": "parts of the P-part partition scaled to the tets per rank; shared vertices, pairs and "
                         "boundary tets by (tets per rank / mean tets per part)^(2/3); neighbours as measured",
+        "multilevel (measured here)": f"an iteration {args.ml_iteration_factor} and a refresh "
+                                      f"{args.ml_refresh_factor} Jacobi iterations' cost, "
+                                      f"{args.ml_iterations_per_step} iterations a step; levels "
+                                      f"{args.ml_levels[1:]} nodes at {args.ml_levels[0]:,.0f} tets, "
+                                      f"coarsest rows of {args.ml_coarsest_row_blocks} blocks",
+        "multilevel (ASSUMED)": f"{args.ml_level_ratio}x fewer nodes per further level; coarse halos "
+                                f"{args.ml_halo_widening}x the surface scaling; neighbours as the finest's",
     }
     args.out.mkdir(parents=True, exist_ok=True)
     write_partition_summary(args.partitions, args.out)

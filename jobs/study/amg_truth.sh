@@ -20,7 +20,7 @@ study() {  # study OUT ARGS...: one descent study with its machine record
   local out=$1
   shift
   mkdir -p "$out"
-  local cmd=($MPIEXEC -n 2 "$DESCENT" study "$@" "${AMG[@]}" --study-out "$out")
+  local cmd=($MPIEXEC -n 2 "$DESCENT" study "$@" "${JACOBI[@]}" "${AMG[@]}" --study-out "$out")
   machine "${cmd[*]}" > "$out/machine.txt"
   "${cmd[@]}" > "$out/progress.log"
 }

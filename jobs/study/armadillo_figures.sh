@@ -23,7 +23,7 @@ study() {  # study OUT ARGS...: one descent study with its machine record
   local out=$1
   shift
   mkdir -p "$out"
-  local cmd=($MPIEXEC -n 1 "$DESCENT" study "$@" --study-out "$out")
+  local cmd=($MPIEXEC -n 1 "$DESCENT" study "$@" "${JACOBI[@]}" --study-out "$out")
   machine "${cmd[*]}" > "$out/machine.txt"
   "${cmd[@]}" > "$out/progress.log"
 }

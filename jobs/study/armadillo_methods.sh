@@ -11,7 +11,7 @@ if [ ! -f "$mesh" ]; then
 fi
 out="$RESULTS/methods_armadillo"
 mkdir -p "$out"
-cmd=($MPIEXEC -n 1 "$DESCENT" study jobs/study/armadillo.toml "${TRUTH[@]}" --warmup 10 --repeats 3
+cmd=($MPIEXEC -n 1 "$DESCENT" study jobs/study/armadillo.toml "${JACOBI[@]}" "${TRUTH[@]}" --warmup 10 --repeats 3
      --case chebyshev --case "chebyshev_fixed:$FIXED" --case gd --case jacobi_gd --case ncg
      --case lbfgs --case nesterov --case newton --study-out "$out")
 machine "${cmd[*]}" > "$out/machine.txt"

@@ -30,10 +30,10 @@ have_armadillo=1
 
 # name | scene arguments | iterations: automatic, fixed, ncg, lbfgs
 scenes=(
-  "helix41k|jobs/helix.toml --set mesh.helix.preset='\"41k\"' --set solver.accuracy=0 --set solver.iterations=96|500 400 300 400"
-  "helix82k|jobs/helix.toml --set mesh.helix.preset='\"82k\"' --set solver.accuracy=0 --set solver.iterations=96|700 400 400 500"
-  "armadillo|jobs/study/armadillo.toml|1000 400 800 1000"
-  "armadillo_stiff|jobs/study/armadillo.toml --set material.young=1e7|2500 400 2000 2500"
+  "helix41k|jobs/helix.toml --set mesh.helix.preset='\"41k\"' --set solver.accuracy=0 --set solver.iterations=96 --set solver.preconditioner='\"jacobi\"'|500 400 300 400"
+  "helix82k|jobs/helix.toml --set mesh.helix.preset='\"82k\"' --set solver.accuracy=0 --set solver.iterations=96 --set solver.preconditioner='\"jacobi\"'|700 400 400 500"
+  "armadillo|jobs/study/armadillo.toml --set solver.preconditioner='\"jacobi\"'|1000 400 800 1000"
+  "armadillo_stiff|jobs/study/armadillo.toml --set material.young=1e7 --set solver.preconditioner='\"jacobi\"'|2500 400 2000 2500"
 )
 
 scene_args() {  # scene_args ENTRY: the scene arguments, one per line
@@ -95,7 +95,7 @@ spectrum() {
 mainjob() {
   out="$base/mainjob"
   mkdir -p "$out"
-  cmd=($MPIEXEC -n 2 "$DESCENT" study jobs/helix.toml "${TRUTH[@]}" --warmup 0 --frames 60 --every 1
+  cmd=($MPIEXEC -n 2 "$DESCENT" study jobs/helix.toml "${JACOBI[@]}" "${TRUTH[@]}" --warmup 0 --frames 60 --every 1
        --repeats 1 --case "accuracy_1e-2:method=chebyshev accuracy=1e-2 iterations=1000"
        --case "fixed_96:method=chebyshev accuracy=0 iterations=96" --study-out "$out")
   machine "${cmd[*]}" > "$out/machine.txt"

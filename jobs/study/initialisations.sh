@@ -6,7 +6,7 @@
 source "$(dirname "$0")/common.sh"
 out="$RESULTS/initialisations"
 mkdir -p "$out"
-cmd=($MPIEXEC -n 1 "$DESCENT" study jobs/study/small_helix.toml "${TRUTH[@]}"
+cmd=($MPIEXEC -n 1 "$DESCENT" study jobs/study/small_helix.toml "${JACOBI[@]}" "${TRUTH[@]}"
      --warmup 1 --frames 100 --every 1 --repeats 1
      --case "position:init=position" --case "velocity:init=velocity"
      --case "constant_acceleration:init=constant_acceleration" --case "optimized:init=optimized"

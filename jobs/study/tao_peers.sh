@@ -37,12 +37,12 @@ for mesh in "${meshes[@]}"; do
   if [ "$mesh" = helix ]; then
     # The warm-up (the scene's Chebyshev) at the cap too, as the helix ran.
     scene=(jobs/helix.toml --set "mesh.helix.preset=\"${PRESET}\"" --set solver.accuracy=0
-           --set solver.iterations="$ITERATIONS")
+           --set solver.iterations="$ITERATIONS" "${JACOBI[@]}")
     name="helix_$PRESET"
   else
     # The warm-up at the scene's 96 iterations: at 500 per frame the
     # armadillo's Chebyshev warm-up reached a non-finite state (eps* NaN).
-    scene=(jobs/study/armadillo.toml)
+    scene=(jobs/study/armadillo.toml "${JACOBI[@]}")
     name=armadillo
   fi
   for np in $NPS; do

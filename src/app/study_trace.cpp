@@ -32,12 +32,12 @@ StepMemory carried_memory(const SolverSpec& warmup, const StepMemory& memory,
   if (same_method || automatic) carried = memory;
   // The spectrum is the state's and the preconditioner's: another P^-1
   // estimates its own; the step length belongs to the method.
-  if (spec.preconditioner != warmup.preconditioner) {
+  const bool other_preconditioner = preconditioner_of(spec) != preconditioner_of(warmup);
+  if (other_preconditioner) {
     carried.lambda_min = carried.lambda_max = 0;
     carried.widening = 1;
   }
-  if (!same_method || spec.preconditioner != warmup.preconditioner)
-    carried.alpha = automatic ? 0 : spec.alpha_max;
+  if (!same_method || other_preconditioner) carried.alpha = automatic ? 0 : spec.alpha_max;
   return carried;
 }
 

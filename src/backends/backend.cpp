@@ -207,7 +207,8 @@ std::string preconditioner_report(const Stepper<Real>& stepper, long long tets, 
       "preconditioner: ", s.refreshes, " refreshes, ", format_milliseconds(s.refresh_seconds), " (",
       mean_ms(s.refresh_seconds, s.refreshes), " ms each); ", s.applications, " applications, ",
       format_milliseconds(s.apply_seconds), " (", mean_ms(s.apply_seconds, s.applications),
-      " ms each); ", s.allreduces, " allreduces and ", s.gathers, " gathers of its own");
+      " ms each); ", s.allreduces, " allreduces, ", s.gathers, " gathers and ", s.messages,
+      " halo messages of its own");
 }
 
 template std::string stepper_timing_report(const Stepper<double>&);

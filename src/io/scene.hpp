@@ -164,8 +164,14 @@ struct SolverSpec {
   int polar_sweeps = 4;             // 2x2 Jacobi sweeps of the polar decomposition, at most
   double rayleigh_stiffness = 0.0;  // beta (s): stiffness-proportional Rayleigh damping
   // P^-1 of the methods that precondition (solver/preconditioners/): "jacobi",
-  // "multilevel" or "petsc_gamg" (builds with PETSc).
-  std::string preconditioner = "jacobi";
+  // "multilevel", "petsc_gamg" (builds with PETSc) or "auto" (the default):
+  // multilevel for chebyshev with its automatic parameters (faster to every
+  // accuracy on the main job and the study scenes: bench/results/multilevel)
+  // on the CPU, for a body with inertia or held dofs; jacobi for every other
+  // method (the papers' forms), for the fixed parameters (tuned to Jacobi's
+  // spectrum), on a device, and for a quasi-static body nothing holds.
+  // preconditioner_of() resolves it by method (ChebyshevDescent the rest).
+  std::string preconditioner = "auto";
   // Steps between rebuilds of a multilevel P^-1 at the step's start (1: every
   // step); a rollback always rebuilds it.
   int preconditioner_refresh = 1;
@@ -178,6 +184,14 @@ struct SolverSpec {
   int multilevel_smoother_degree = 2;
   int multilevel_coarse_size = 2000;
 };
+
+// The preconditioner `spec` applies: solver.preconditioner, with "auto"
+// resolved for spec's method.
+inline std::string preconditioner_of(const SolverSpec& spec) {
+  if (spec.preconditioner != "auto") return spec.preconditioner;
+  return spec.method == "chebyshev" && spec.chebyshev_parameters == "auto" ? "multilevel"
+                                                                           : "jacobi";
+}
 
 struct OutputSpec {
   std::string dir = "out";

@@ -156,7 +156,7 @@ void check_box(const SceneDocument& doc, const BoxParams& box) {
 void check_preconditioner(const SceneDocument& doc, const Scene& scene) {
   const SolverSpec& solver = scene.solver;
   require_one_of(doc, "solver.preconditioner", solver.preconditioner,
-                 {"jacobi", "multilevel", "petsc_gamg"});
+                 {"auto", "jacobi", "multilevel", "petsc_gamg"});
   require(doc, solver.preconditioner_refresh >= 1, "solver.preconditioner_refresh", ">= 1",
           solver.preconditioner_refresh);
   require(doc, solver.multilevel_cell >= 1.5 && solver.multilevel_cell <= 100,
@@ -166,7 +166,8 @@ void check_preconditioner(const SceneDocument& doc, const Scene& scene) {
   require(doc, solver.multilevel_coarse_size >= 6 && solver.multilevel_coarse_size <= 100000,
           "solver.multilevel_coarse_size", "in [6, 100000] unknowns",
           solver.multilevel_coarse_size);
-  if (solver.preconditioner == "jacobi") return;
+  // "auto" is the right one for every method.
+  if (solver.preconditioner == "jacobi" || solver.preconditioner == "auto") return;
   const std::string& method = solver.method;
   const bool preconditions = method == "chebyshev" || method == "jacobi_gd" ||
                              method == "nesterov" || method == "ncg" || method == "lbfgs" ||
@@ -180,6 +181,11 @@ void check_preconditioner(const SceneDocument& doc, const Scene& scene) {
         doc.where("solver.preconditioner"), ": solver.preconditioner = \"", solver.preconditioner,
         "\" takes Chebyshev's parameters from the spectrum of P^-1 H "
         "(solver.chebyshev_parameters = \"auto\"); the fixed ones are tuned to Jacobi's"));
+  if (solver.preconditioner == "petsc_gamg" && scene.material.conversion.enabled)
+    throw InputError(detail::concat(
+        doc.where("solver.preconditioner"),
+        ": solver.preconditioner = \"petsc_gamg\" needs material.conversion.enabled = false (its "
+        "Hessian knows nothing of conversion's hybrid energy)"));
   if (method == "linear_cg" && doc.has("solver.linear_cg_preconditioner"))
     throw InputError(detail::concat(
         doc.where("solver.linear_cg_preconditioner"),

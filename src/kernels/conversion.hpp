@@ -90,17 +90,25 @@ DESCENT_HOST_DEVICE inline void converted_gradient(const Model& model, const Con
   }
 }
 
-// dP/dF of the hybrid energy (1 - l) Psi + l Psi_arap at the stored
-// interpolant l (layout of element_hessian.hpp), l held constant as the
-// gradient holds it; at l = 1 the model is not evaluated.
+// The dP/dF a preconditioner takes for the hybrid energy (Eq. 19), layout of
+// element_hessian.hpp: (1 - l) dP/dF of the model plus l times arap's at
+// rest, 2 mu I (the whole of which converted_gradient's diagonal is the
+// diagonal), with l the interpolant the element's next gradient takes at F
+// (Eq. 17 from the stored `previous`). At l = 1 the model is not evaluated:
+// it may be undefined or overflow there (an inverted or crushed element),
+// as arap's own dP/dF does at F = 0.
 template <class Real, class Model>
-DESCENT_HOST_DEVICE inline void converted_stress_derivative(const Model& model,
-                                                            const Conversion<Real>& conv, Real l,
-                                                            const Mat3<Real>& f, Real dpdf[81]) {
-  Real base[81] = {}, blended[81] = {};
-  if (l < Real(1)) model.stress_derivative(f, base);
-  if (l > Real(0)) conv.arap.stress_derivative(f, blended);
-  for (int k = 0; k < 81; ++k) dpdf[k] = (Real(1) - l) * base[k] + l * blended[k];
+DESCENT_HOST_DEVICE inline void converted_preconditioner_dpdf(const Model& model,
+                                                              const Conversion<Real>& conv,
+                                                              Real previous, const Mat3<Real>& f,
+                                                              Real dpdf[81]) {
+  const Real l = conv.next_interpolant(previous, f);
+  if (l < Real(1))
+    model.stress_derivative(f, dpdf);
+  else
+    for (int k = 0; k < 81; ++k) dpdf[k] = 0;
+  for (int k = 0; k < 81; ++k) dpdf[k] *= Real(1) - l;
+  for (int k = 0; k < 9; ++k) dpdf[10 * k] += l * Real(2) * conv.arap.mu;
 }
 
 // The hybrid element Hessian (1 - l) H + l H_arap at the stored interpolant

@@ -30,7 +30,10 @@ namespace descent::loops {
 // the finest operator, held dofs' rows and columns left out. No two of
 // these tets may share a vertex (one colour of the set-up's colouring), so
 // no two threads add to one block and the sum is the same on every thread
-// count. With conversion, the hybrid's Hessian at each tet's interpolant.
+// count. With conversion, Eq. 19's blend at the interpolant the tet's next
+// gradient takes. An element whose Hessian is not finite (a crushed tet of
+// a model that overflows there) adds nothing: one element's curvature left
+// out costs the V-cycle little, a NaN in the operator everything.
 template <bool Converting, class Exec, class Real, class Model>
 void add_element_hessians(Exec& exec, int stream, const Model& model, const Conversion<Real>& conv,
                           const Real* interpolant, const Real* x, const index_t* tets,
@@ -46,9 +49,12 @@ void add_element_hessians(Exec& exec, int stream, const Model& model, const Conv
         // Not `if constexpr`: nvcc's extended lambdas cannot first capture
         // inside one.
         if (Converting)
-          converted_stress_derivative(model, conv, interpolant[t], f, dpdf);
+          converted_preconditioner_dpdf(model, conv, interpolant[t], f, dpdf);
         else
           model.stress_derivative(f, dpdf);
+        bool finite = true;
+        for (int e = 0; e < 81; ++e) finite = finite && dpdf[e] - dpdf[e] == Real(0);
+        if (!finite) return;
         project_isotropic_psd(f, dpdf);
         Real h[144];
         contract_stress_derivative(dpdf, rest[t], h);
@@ -57,7 +63,7 @@ void add_element_hessians(Exec& exec, int stream, const Model& model, const Conv
         if (fixed[tet[0]] | fixed[tet[1]] | fixed[tet[2]] | fixed[tet[3]])
           for (int i = 0; i < 12; ++i)
             if (held(fixed, 3 * tet[i / 3] + i % 3))
-              for (int k = 0; k < 12; ++k) h[12 * i + k] = h[12 * k + i] = 0;
+              for (int j = 0; j < 12; ++j) h[12 * i + j] = h[12 * j + i] = 0;
         const index_t* slots = tet_slots + 16 * static_cast<std::int64_t>(t);
         for (int a = 0; a < 4; ++a)
           for (int b = 0; b < 4; ++b) {

@@ -94,11 +94,28 @@ ChebyshevDescent<Real>::ChebyshevDescent(LocalProblem<Real>& problem, const Solv
   DESCENT_VERIFY(spec.method == "chebyshev",
                  "the Chebyshev stepper runs solver.method = chebyshev");
   memory_.alpha = spec.alpha_max;
-  if (spec.preconditioner != "jacobi") engine_->use_preconditioner(spec);
+  if (preconditioner_of(spec) != "jacobi" &&
+      (spec.preconditioner != "auto" || automatic_multilevel_fits()))
+    engine_->use_preconditioner(spec);
   const auto staging = engine_->staging();
   q_ = staging.q;
   y_ = staging.y;
   qt_ = staging.qt;
+}
+
+template <class Real>
+bool ChebyshevDescent<Real>::automatic_multilevel_fits() {
+  // Not on a device: the multilevel preconditioner's device path has not run
+  // on one yet (docs/multilevel.md).
+  if (engine_->on_device()) return false;
+  // Not where its operator is singular: a quasi-static body that nothing
+  // holds, whose rigid motions cost nothing (an inverted tet or a random box
+  // recovering its rest shape: tests/mpi/test_recovery.cpp stalled with it).
+  // One collective: whether any rank holds a dof.
+  if (problem_.vertex_terms().inv_h2 > 0) return true;
+  const auto& fixed = problem_.fixed_axes();
+  const bool held = std::any_of(fixed.begin(), fixed.end(), [](std::uint8_t f) { return f != 0; });
+  return problem_.global_max(held ? 1.0 : 0.0) > 0;
 }
 
 template <class Real>
@@ -229,8 +246,12 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
     // against 1; the other scenes alike, bench/results/chebyshev_auto/).
     // From the step start the recurrence starts at once, as textbooks have
     // it: there momentum is what carries a body out of a shallow basin
-    // (tests/mpi/test_recovery.cpp's random box).
-    schedule.delay = predicted ? spec_.check_interval + 1 : 1;
+    // (tests/mpi/test_recovery.cpp's random box). With a preconditioner
+    // other than D^-1 it starts at once from any guess: its steps are
+    // nearly Newton's, and the plain iterations only cost (158K helix, one
+    // step to e <= 1e-3: 6 iterations against 9; the main job over 60
+    // frames: no rollback either way).
+    schedule.delay = predicted && !engine_->preconditioner() ? spec_.check_interval + 1 : 1;
     schedule.set_bounds(memory_.lambda_min, memory_.widening * memory_.lambda_max);
   } else {
     memory_.alpha = std::min(spec_.alpha_max, memory_.alpha / spec_.gamma);

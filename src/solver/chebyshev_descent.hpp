@@ -67,6 +67,10 @@ class ChebyshevDescent final : public Stepper<Real> {
   int estimates() const { return estimates_; }
 
  private:
+  // Whether solver.preconditioner = "auto" takes the multilevel one here
+  // (it does for the automatic parameters on the CPU, for a body with
+  // inertia or held dofs). Collective.
+  bool automatic_multilevel_fits();
   // Estimates the spectrum when the memory says it is due (first step, after
   // a rollback, every spectrum_interval steps). True when it did: the
   // engine's diagonal is then fresh at the initial guess.

@@ -171,17 +171,19 @@ class EngineImpl final : public IterationEngine<Real> {
       memory_.tet_bytes -= corner_diag_.bytes();
       corner_diag_ = {};
     }
-    if (spec.preconditioner == "multilevel") {
+    const std::string kind = preconditioner_of(spec);
+    if (kind == "multilevel") {
       preconditioner_ =
           std::make_unique<MultilevelPreconditioner<Exec, Real>>(exec_, problem_, spec);
     } else if constexpr (Exec::kHostMemory) {
       preconditioner_ = make_host_preconditioner(problem_, spec);
     } else {
-      throw InputError(detail::concat("solver.preconditioner = \"", spec.preconditioner,
+      throw InputError(detail::concat("solver.preconditioner = \"", kind,
                                       "\" runs on the cpu backend only; use --backend cpu, or "
                                       "solver.preconditioner = \"multilevel\""));
     }
-    DESCENT_VERIFY(preconditioner_, "no preconditioner for ", spec.preconditioner);
+    DESCENT_VERIFY(preconditioner_, "no preconditioner for ", kind);
+    if (converting_) preconditioner_->read_interpolants_from(interpolant_.data());
     gradient_ = make<Real>(n3_, memory_.vertex_bytes);
     direction_ = make<Real>(n3_, memory_.vertex_bytes);
   }

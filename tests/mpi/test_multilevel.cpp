@@ -121,7 +121,9 @@ TEST(Multilevel, VcycleIsSymmetricPositiveDefiniteAndTheSameOnEveryRankCount) {
   EXPECT_NEAR(xpy, ypx, 1e-11 * std::sqrt(xpx * dot(problem, y, py)));
   EXPECT_GT(xpx, 0);
   for (std::size_t k = 0; k < px.size(); ++k)
-    if (problem.fixed_axes()[k / 3] >> (k % 3) & 1u) EXPECT_EQ(px[k], 0.0) << "held dof " << k;
+    if (problem.fixed_axes()[k / 3] >> (k % 3) & 1u) {
+      EXPECT_EQ(px[k], 0.0) << "held dof " << k;
+    }
 
   // Shared vertices: every sharer holds the same bits (owners' values
   // broadcast by global id against each rank's own).

@@ -9,12 +9,12 @@ namespace descent {
 template <class Real>
 std::unique_ptr<Preconditioner<Real>> make_host_preconditioner(LocalProblem<Real>& problem,
                                                                const SolverSpec& spec) {
-  if (spec.preconditioner == "jacobi") return nullptr;
-  if (spec.preconditioner == "multilevel") return make_host_multilevel(problem, spec);
-  if (spec.preconditioner == "petsc_gamg") return make_petsc_gamg_preconditioner(problem, spec);
+  const std::string kind = preconditioner_of(spec);
+  if (kind == "jacobi") return nullptr;
+  if (kind == "multilevel") return make_host_multilevel(problem, spec);
+  if (kind == "petsc_gamg") return make_petsc_gamg_preconditioner(problem, spec);
   // The scene checks admit only the preconditioners listed here.
-  throw LogicError(
-      detail::concat("no preconditioner for solver.preconditioner = ", spec.preconditioner));
+  throw LogicError(detail::concat("no preconditioner for solver.preconditioner = ", kind));
 }
 
 template std::unique_ptr<Preconditioner<double>> make_host_preconditioner(LocalProblem<double>&,

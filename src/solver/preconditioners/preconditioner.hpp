@@ -30,6 +30,8 @@ struct PreconditionerStats {
   // MPI_Allgatherv).
   long allreduces = 0;
   long gathers = 0;
+  // Point-to-point messages its own halos sent (set-up excluded).
+  long messages = 0;
   std::size_t memory_bytes = 0;  // what it holds beyond the method's vectors
   // Unknowns per level, finest first (one entry for a one-level method).
   std::vector<long long> level_dofs;
@@ -44,6 +46,10 @@ class Preconditioner {
   // at each step's start and after a rollback, at the state the method
   // continues from. P^-1 is then fixed until the next refresh. Collective.
   virtual void refresh(const Real* q) = 0;
+  // With model conversion: where the method keeps each local tet's
+  // interpolant l (memory of the same execution), for refresh to read; by
+  // default the problem's (LocalProblem::interpolants).
+  virtual void read_interpolants_from(const Real* /*interpolants*/) {}
 
   // z = P^-1 r. r is complete on every local vertex (shared ones bitwise
   // equal on all sharers) and 0 on held dofs; so is z. r and z are

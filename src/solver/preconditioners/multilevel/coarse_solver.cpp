@@ -3,6 +3,7 @@
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "comm/mpi_check.hpp"
@@ -24,8 +25,11 @@ struct Entry {
 
 }  // namespace
 
-CoarseSolver::CoarseSolver(MPI_Comm comm, const LevelLayout& level)
-    : comm_(comm), block_(level.block), factor_(std::make_unique<Factor>()) {
+CoarseSolver::CoarseSolver(MPI_Comm comm, const LevelLayout& level, double epsilon)
+    : comm_(comm),
+      block_(level.block),
+      first_shift_(std::sqrt(epsilon)),
+      factor_(std::make_unique<Factor>()) {
   int size = 1;
   MPI_Comm_size(comm, &size);
   std::vector<long long> owned(level.global.begin(), level.global.begin() + level.num_owned);
@@ -99,10 +103,31 @@ void CoarseSolver::factor(const BlockPattern& pattern, const std::vector<double>
   Eigen::SparseMatrix<double> a(n, n);
   a.setFromTriplets(triplets.begin(), triplets.end());
   factor_->llt.compute(a);
+  // Semi-definite where nothing holds a body still (a quasi-static solve
+  // without held vertices: its rigid motions cost nothing): factor
+  // A + shift diag(A), the shift growing from round-off, which keeps the
+  // V-cycle SPD and leaves the motions A does not see to the smoother.
+  // The shift starts at sqrt(epsilon) of the V-cycle's precision: 1/shift
+  // is how far P^-1 amplifies the motions A does not see, and the round-off
+  // of a right-hand side in them (epsilon) must stay small after it (in
+  // float, 1e-8 let a collapsed box's rigid motions grow to NaN); an entry
+  // with no curvature at all shifts by the operator's largest scale.
+  shift_ = 0;
+  if (factor_->llt.info() != Eigen::Success) {
+    const Eigen::VectorXd diagonal = a.diagonal().cwiseAbs();
+    const double floor = 1e-3 * std::max(diagonal.maxCoeff(), 1e-300);
+    for (double shift = first_shift_; shift <= 1e-1 && factor_->llt.info() != Eigen::Success;
+         shift *= 10) {
+      Eigen::SparseMatrix<double> shifted = a;
+      for (Eigen::Index k = 0; k < n; ++k)
+        shifted.coeffRef(k, k) += shift * std::max(diagonal[k], floor);
+      factor_->llt.compute(shifted);
+      shift_ = shift;
+    }
+  }
   if (factor_->llt.info() != Eigen::Success)
     throw Error(detail::concat("multilevel: the coarsest operator (", unknowns_,
-                               " unknowns) is not positive definite: a body without held "
-                               "vertices in a quasi-static solve has no unique equilibrium"));
+                               " unknowns) is not positive semi-definite"));
   factor_->rhs.resize(n);
 }
 

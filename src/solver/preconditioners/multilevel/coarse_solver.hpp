@@ -11,7 +11,9 @@
 // an MPI_Allreduce need not give every rank the same bits (Open MPI's on 3
 // ranks did not), and sharers of a vertex must hold bitwise equal values.
 // Unknowns that carry nothing (dropped modes) get an identity row, so the
-// solution is 0 there.
+// solution is 0 there. A semi-definite operator (a quasi-static body that
+// nothing holds) is factored with a shift of its diagonal, at least
+// sqrt(epsilon) of it.
 #include <mpi.h>
 
 #include <memory>
@@ -24,7 +26,8 @@ namespace descent {
 class CoarseSolver {
  public:
   // Collective: numbers the level's nodes globally (ascending id).
-  CoarseSolver(MPI_Comm comm, const LevelLayout& level);
+  // `epsilon`: the machine epsilon of the V-cycle's arithmetic.
+  CoarseSolver(MPI_Comm comm, const LevelLayout& level, double epsilon);
   ~CoarseSolver();
   CoarseSolver(const CoarseSolver&) = delete;
   CoarseSolver& operator=(const CoarseSolver&) = delete;
@@ -36,6 +39,9 @@ class CoarseSolver {
   void solve(const double* b, double* x);
 
   long long unknowns() const { return unknowns_; }
+  // The relative shift of the diagonal the last factorisation needed (0:
+  // none, the operator was positive definite).
+  double shift() const { return shift_; }
   // The collectives of the solves (one each) and of the factorisations.
   long solves() const { return solves_; }
   long gathers() const { return gathers_; }
@@ -44,6 +50,7 @@ class CoarseSolver {
   struct Factor;
   MPI_Comm comm_;
   int block_;
+  double first_shift_;
   std::vector<std::uint8_t> owned_inactive_;  // per local unknown of an owned node
   std::vector<long long> index_;              // per local node: its global index
   long long unknowns_ = 0;
@@ -55,6 +62,7 @@ class CoarseSolver {
   std::vector<double> gathered_;
   std::unique_ptr<Factor> factor_;
   long solves_ = 0, gathers_ = 0;
+  double shift_ = 0;
 };
 
 }  // namespace descent

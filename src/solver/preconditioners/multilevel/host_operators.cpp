@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "comm/mpi_check.hpp"
+#include "common/error.hpp"
 #include "solver/spectrum.hpp"
 
 namespace descent {
@@ -21,21 +22,33 @@ double noise(std::uint64_t id) {
 
 }  // namespace
 
+namespace {
+
+template <int B, class T>
+void product_of_blocks(const BlockPattern& pattern, const T* values, const double* x, double* y) {
+#pragma omp parallel for schedule(static)
+  for (index_t r = 0; r < pattern.rows; ++r) {
+    double out[B] = {};
+    for (index_t s = pattern.offsets[r]; s < pattern.offsets[r + 1]; ++s) {
+      const T* a = values + B * B * static_cast<std::size_t>(s);
+      const double* in = x + B * static_cast<std::size_t>(pattern.columns[s]);
+      for (int i = 0; i < B; ++i)
+        for (int j = 0; j < B; ++j) out[i] += static_cast<double>(a[B * i + j]) * in[j];
+    }
+    for (int i = 0; i < B; ++i) y[B * static_cast<std::size_t>(r) + i] = out[i];
+  }
+}
+
+}  // namespace
+
 template <class T>
 void partial_product(const BlockPattern& pattern, const T* values, int block, const double* x,
                      double* y) {
-  const std::size_t bb = static_cast<std::size_t>(block) * block;
-#pragma omp parallel for schedule(static)
-  for (index_t r = 0; r < pattern.rows; ++r) {
-    double* out = y + static_cast<std::size_t>(block) * r;
-    for (int i = 0; i < block; ++i) out[i] = 0;
-    for (index_t s = pattern.offsets[r]; s < pattern.offsets[r + 1]; ++s) {
-      const T* a = values + bb * s;
-      const double* in = x + static_cast<std::size_t>(block) * pattern.columns[s];
-      for (int i = 0; i < block; ++i)
-        for (int j = 0; j < block; ++j) out[i] += static_cast<double>(a[block * i + j]) * in[j];
-    }
-  }
+  DESCENT_VERIFY(block == 3 || block == 6, "blocks of ", block);
+  if (block == 3)
+    product_of_blocks<3>(pattern, values, x, y);
+  else
+    product_of_blocks<6>(pattern, values, x, y);
 }
 
 template <class T>

@@ -15,6 +15,7 @@ class HostMultilevel final : public Preconditioner<Real> {
   HostMultilevel(LocalProblem<Real>& problem, const SolverSpec& spec)
       : impl_(exec_, problem, spec) {}
   void refresh(const Real* q) override { impl_.refresh(q); }
+  void read_interpolants_from(const Real* l) override { impl_.read_interpolants_from(l); }
   void apply(const Real* r, Real* z) override { impl_.apply(r, z); }
   PreconditionerStats stats() const override { return impl_.stats(); }
   std::string describe() const override { return impl_.describe(); }

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -116,22 +117,29 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
       t.columns = upload(p.pattern.columns);
       t.values = mirror(hierarchy_.prolongation[l].values);
       if (!views(t.values, p.values)) upload_into(t.values, p.values);
-      const TransposedPattern pt = transpose(p.pattern);
-      t.t_offsets = upload(pt.offsets);
-      t.t_rows = upload(pt.rows);
-      t.t_slots = upload(pt.slots);
+      if (!serial_) {  // the parallel restriction gathers through the transpose
+        const TransposedPattern pt = transpose(p.pattern);
+        t.t_offsets = upload(pt.offsets);
+        t.t_rows = upload(pt.rows);
+        t.t_slots = upload(pt.slots);
+      }
       transfers_.push_back(std::move(t));
     }
-    coarse_ = std::make_unique<CoarseSolver>(comm_, hierarchy_.levels.back());
+    coarse_ = std::make_unique<CoarseSolver>(comm_, hierarchy_.levels.back(),
+                                             std::numeric_limits<Real>::epsilon());
     coarse_b_.assign(static_cast<std::size_t>(levels_.back().block) * levels_.back().nodes, 0.0);
     coarse_x_ = coarse_b_;
     if (!Exec::kHostMemory) coarse_stage_ = make_pinned<Real>(coarse_b_.size());
     setup_seconds_ = std::chrono::duration<double>(Clock::now() - start).count();
   }
 
+  void read_interpolants_from(const Real* interpolants) override {
+    interpolant_source_ = interpolants;
+  }
+
   void refresh(const Real* q) override {
     const auto start = Clock::now();
-    if (converting_) {
+    if (converting_ && !interpolant_source_) {
       const std::vector<Real>& l = problem_.interpolants();
       exec_.copy(kStream, interpolant_.data(), l.data(), interpolant_.bytes());
     }
@@ -156,6 +164,8 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
   PreconditionerStats stats() const override {
     PreconditionerStats s = stats_;
     s.gathers = lanczos_gathers_ + coarse_->solves() + coarse_->gathers();
+    for (const Level& level : levels_) s.messages += level.halo->counters().messages_sent;
+    for (const auto& halo : host_halos_) s.messages += halo->counters().messages_sent;
     s.memory_bytes = memory_bytes_ + host_bytes();
     s.level_dofs = hierarchy_.global_unknowns;
     return s;
@@ -264,10 +274,10 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
         [&](const auto& model) {
           for (std::size_t c = 0; c + 1 < colours.size(); ++c) {
             if (converting)
-              loops::add_element_hessians<true>(exec_, kStream, model, conversion_,
-                                                interpolant_.data(), x, tets_.data(), rest_.data(),
-                                                tet_order_.data(), colours[c], colours[c + 1],
-                                                tet_slots_.data(), fixed_.data(), f.values.data());
+              loops::add_element_hessians<true>(exec_, kStream, model, conversion_, interpolants(),
+                                                x, tets_.data(), rest_.data(), tet_order_.data(),
+                                                colours[c], colours[c + 1], tet_slots_.data(),
+                                                fixed_.data(), f.values.data());
             else
               loops::add_element_hessians<false>(exec_, kStream, model, conversion_,
                                                  interpolant_.data(), x, tets_.data(), rest_.data(),
@@ -279,6 +289,12 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
     loops::add_vertex_curvature(exec_, kStream, problem_.mesh().num_owned, terms_, mass_.data(),
                                 fixed_.data(), diagonal_slots_.data(), f.values.data());
     exec_.sync(kStream);
+  }
+
+  // Each tet's interpolant: where the method keeps them, else the copy of
+  // the problem's refresh made.
+  const Real* interpolants() const {
+    return interpolant_source_ ? interpolant_source_ : interpolant_.data();
   }
 
   // The finest operator's values where the host can read them.
@@ -535,6 +551,7 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
   Array<index_t> tets_, tet_slots_, tet_order_, diagonal_slots_;
   Array<TetRest<Real>> rest_;
   Array<Real> mass_, interpolant_;
+  const Real* interpolant_source_ = nullptr;
   Array<std::uint8_t> fixed_;
   Array<Real> coarse_stage_;     // a device's coarsest vectors, on the host (pinned)
   std::vector<Real> host_fine_;  // a device's finest operator, on the host
