@@ -438,20 +438,23 @@ def main():
     parser.add_argument("--weak-cpu-tets", type=int, default=323_690,
                         help="tets per CPU rank (default: the 10.36M helix's mean part at P = 32)")
     parser.add_argument("--weak-gpu-tets", type=int, default=5_000_000, help="tets per GPU")
-    parser.add_argument("--ml-iteration-factor", type=float, default=3.0,
+    # Measured on the 1M helix, 2 ranks (bench/results/multilevel/memory/):
+    # a Jacobi iteration 54.0 ms, a multilevel one 146 ms, a refresh 1171 ms.
+    parser.add_argument("--ml-iteration-factor", type=float, default=2.70,
                         help="MEASURED: an iteration with its V-cycle in Jacobi iterations' cost per tet")
-    parser.add_argument("--ml-refresh-factor", type=float, default=30.0,
+    parser.add_argument("--ml-refresh-factor", type=float, default=21.7,
                         help="MEASURED: one refresh in Jacobi iterations' cost per tet")
     parser.add_argument("--ml-iterations-per-step", type=float, default=16,
                         help="MEASURED: iterations per step with multilevel (the main job at 1e-2)")
     parser.add_argument("--ml-degree", type=int, default=2, help="solver.multilevel_smoother_degree")
-    parser.add_argument("--ml-levels", type=float, nargs="+", default=[1.0e6, 1.7e5, 1.0e4, 1.2e3],
+    parser.add_argument("--ml-levels", type=float, nargs="+", default=[1_031_208, 200_480, 5_304, 834, 154],
                         help="MEASURED: tets of a run, then nodes per level (vertices first, coarsest last)")
-    parser.add_argument("--ml-level-ratio", type=float, default=8.0,
+    parser.add_argument("--ml-level-ratio", type=float, default=6.0,
                         help="ASSUMED: nodes of a level over the next one's, beyond the measured levels")
     parser.add_argument("--ml-coarse-size", type=float, default=2000, help="solver.multilevel_coarse_size")
-    parser.add_argument("--ml-coarsest-row-blocks", type=float, default=40,
-                        help="MEASURED: 6x6 blocks per row of the coarsest operator")
+    parser.add_argument("--ml-coarsest-row-blocks", type=float, default=154,
+                        help="ASSUMED: 6x6 blocks per row of the coarsest operator (default: dense, the "
+                             "1M helix's coarsest nodes, an upper bound)")
     parser.add_argument("--ml-halo-widening", type=float, default=2.0,
                         help="ASSUMED: a coarse level's shared nodes over the surface scaling's")
     parser.add_argument("--out", type=Path, default=RESULTS)

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "common/error.hpp"
+#include "common/splitmix.hpp"
 #include "solver/check_history.hpp"
 #include "solver/methods/chebyshev_phases.hpp"
 #include "solver/spectrum.hpp"
@@ -28,16 +29,6 @@ struct ScopedTimer {
   Clock::time_point start = Clock::now();
   ~ScopedTimer() { total += seconds_since(start); }
 };
-
-// A deterministic value in [-1, 1] for global dof `id` (splitmix64), the
-// same on every rank count.
-double noise(std::uint64_t id) {
-  std::uint64_t z = id + 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * (2.0 / 9007199254740992.0) - 1.0;
-}
 
 // Weight of the noise in the Lanczos start vector, relative to the RMS of
 // its motion part.
@@ -151,7 +142,7 @@ double ChebyshevDescent<Real>::stage_start_vector(const BodyState<Real>& state) 
     const double motion =
         moving ? static_cast<double>(state.v[k]) : (rms > 0 ? acceleration(k) : 0);
     const std::uint64_t id = 3 * static_cast<std::uint64_t>(mesh.global_vertex[k / 3]) + k % 3;
-    s[k] = static_cast<Real>(motion + scale * noise(id));
+    s[k] = static_cast<Real>(motion + scale * unit_noise(id));
   }
   double lowest = 0;
   for (int axis = 0; axis < 3; ++axis) {

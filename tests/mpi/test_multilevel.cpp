@@ -26,11 +26,13 @@
 #include "kernels/cpu/host_exec.hpp"
 #include "solver/methods/hessian_operator.hpp"
 #include "solver/preconditioners/multilevel/multilevel_impl.hpp"
+#include "deformed_state.hpp"
 #include "world_rank.hpp"
 
 namespace descent {
 namespace {
 
+using testing::deformed_state;
 using testing::world_rank;
 
 Scene sagging_box(int cells) {
@@ -50,16 +52,6 @@ Scene sagging_box(int cells) {
   scene.solver.multilevel_cell = 2.0;
   scene.solver.multilevel_coarse_size = 60;
   return scene;
-}
-
-std::vector<double> deformed_state(const Scene& scene, const Mesh& mesh, int frames) {
-  Simulation<double> sim(MPI_COMM_SELF, scene, mesh);
-  for (int f = 0; f < frames; ++f) sim.step();
-  std::vector<double> q(3 * static_cast<std::size_t>(mesh.num_vertices()));
-  const LocalMesh& local = sim.local_mesh();
-  for (index_t v = 0; v < local.num_vertices(); ++v)
-    for (int i = 0; i < 3; ++i) q[3 * local.global_vertex[v] + i] = sim.state().q[3 * v + i];
-  return q;
 }
 
 double pseudo_random(std::uint64_t id) {

@@ -22,11 +22,13 @@
 #include "solver/iteration_engine.hpp"
 #include "solver/methods/hessian_operator.hpp"
 #include "solver/spectrum.hpp"
+#include "deformed_state.hpp"
 #include "world_rank.hpp"
 
 namespace descent {
 namespace {
 
+using testing::deformed_state;
 using testing::world_rank;
 
 Scene sagging_box() {
@@ -44,18 +46,6 @@ Scene sagging_box() {
   scene.time.dt = 1.0 / 30.0;
   scene.solver.preconditioner = "jacobi";  // the spectrum of D^-1 H
   return scene;
-}
-
-// Positions (global, xyz by id) after `frames` steps of a 1-rank run: the
-// same state for every rank count.
-std::vector<double> deformed_state(const Scene& scene, const Mesh& mesh, int frames) {
-  Simulation<double> sim(MPI_COMM_SELF, scene, mesh);
-  for (int f = 0; f < frames; ++f) sim.step();
-  std::vector<double> q(3 * static_cast<std::size_t>(mesh.num_vertices()));
-  const LocalMesh& local = sim.local_mesh();
-  for (index_t v = 0; v < local.num_vertices(); ++v)
-    for (int i = 0; i < 3; ++i) q[3 * local.global_vertex[v] + i] = sim.state().q[3 * v + i];
-  return q;
 }
 
 // The extreme eigenvalues of D^-1 H at the simulation's positions (1 rank),

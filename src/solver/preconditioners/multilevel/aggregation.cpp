@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "comm/exchange.hpp"
+#include "common/splitmix.hpp"
 
 namespace descent {
 
@@ -27,13 +28,8 @@ Cell cell_of(const double* x, double cell) {
 }
 
 int home_of(const Cell& c, int size) {
-  std::uint64_t z = 0x9E3779B97F4A7C15ull;
-  for (std::int64_t v : c) {
-    z ^= static_cast<std::uint64_t>(v) + 0x9E3779B97F4A7C15ull + (z << 6) + (z >> 2);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-  }
+  std::uint64_t z = 0;
+  for (std::int64_t v : c) z = splitmix64(z ^ static_cast<std::uint64_t>(v));
   return static_cast<int>(z % static_cast<std::uint64_t>(size));
 }
 

@@ -50,4 +50,16 @@ struct BlockMatrix {
   const T* block(std::size_t slot) const { return values.data() + slot * block_size(); }
 };
 
+// A square block matrix held elsewhere, read only: `block` x `block` values
+// per slot of `pattern`.
+struct BlockView {
+  const BlockPattern* pattern = nullptr;
+  const double* values = nullptr;
+  int block = 0;
+
+  const double* slot(std::size_t s) const {
+    return values + s * static_cast<std::size_t>(block) * block;
+  }
+};
+
 }  // namespace descent

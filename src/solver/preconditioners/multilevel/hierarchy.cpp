@@ -10,6 +10,7 @@
 #include "comm/exchange.hpp"
 #include "comm/mpi_check.hpp"
 #include "common/error.hpp"
+#include "common/splitmix.hpp"
 #include "solver/preconditioners/multilevel/aggregation.hpp"
 #include "solver/preconditioners/multilevel/galerkin.hpp"
 #include "solver/preconditioners/multilevel/host_operators.hpp"
@@ -30,10 +31,8 @@ constexpr double kMinShrink = 0.85;
 constexpr int kRowTag = 7202;
 
 int home_of(global_index_t key, int size) {
-  std::uint64_t z = static_cast<std::uint64_t>(key) + 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return static_cast<int>((z ^ (z >> 31)) % static_cast<std::uint64_t>(size));
+  return static_cast<int>(splitmix64(static_cast<std::uint64_t>(key)) %
+                          static_cast<std::uint64_t>(size));
 }
 
 // out (rows x 6) = n (rows x 6) T(d): the rigid motions a node's near-null
@@ -180,11 +179,11 @@ void complete_shared_rows(MPI_Comm comm, const HaloPattern& halo, KeyedRows& row
 
 // y = A x completed through the level's halo.
 struct LevelProduct {
-  const BlockMatrix<double>* a;
+  BlockView a;
   Halo<double>* halo;
   void operator()(const double* x, double* y) const {
-    partial_product(a->pattern, a->values.data(), a->row_block, x, y);
-    halo->sum(y, a->row_block);
+    partial_product(*a.pattern, a.values, a.block, x, y);
+    halo->sum(y, a.block);
   }
 };
 
@@ -195,14 +194,14 @@ struct Coarsening {
   double omega = 0;
 };
 
-Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<double>& rest,
+Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockView& rest,
                    const std::vector<double>& near_null, double cell) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const int k = fine.block;
   const index_t n = fine.num_nodes();
-  const Aggregates agg = aggregate_by_cells(comm, fine.global, fine.position, rest.pattern, cell);
+  const Aggregates agg = aggregate_by_cells(comm, fine.global, fine.position, *rest.pattern, cell);
 
   // The rigid motions about each node's aggregate root, restricted to it.
   std::vector<double> motions(static_cast<std::size_t>(n) * k * kModes);
@@ -269,7 +268,7 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
 
   // Smoothing: P = P_t - omega D^-1 (A P_t), A the level's operator at rest.
   Halo<double> halo(comm, fine.halo);
-  std::vector<double> diagonal = partial_diagonal(rest.pattern, rest.values.data(), k);
+  std::vector<double> diagonal = partial_diagonal(*rest.pattern, rest.values, k);
   halo.sum(diagonal.data(), k);
   const std::vector<double> inv = inverse_diagonal(diagonal, fine.active);
   LanczosTarget target;
@@ -278,7 +277,7 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
   target.inv_diagonal = inv.data();
   target.global = fine.global.data();
   target.block = k;
-  target.product = LevelProduct{&rest, &halo};
+  target.product = LevelProduct{rest, &halo};
   long collectives = 0;
   const double lambda = largest_eigenvalues(comm, {target}, kSmoothingSteps, collectives)[0];
   Coarsening result;
@@ -290,9 +289,9 @@ Coarsening coarsen(MPI_Comm comm, const LevelLayout& fine, const BlockMatrix<dou
   rows.values.resize(n);
   std::vector<double> product(static_cast<std::size_t>(k) * kModes);
   for (index_t v = 0; v < n; ++v)
-    for (index_t s = rest.pattern.offsets[v]; s < rest.pattern.offsets[v + 1]; ++s) {
-      const index_t u = rest.pattern.columns[s];
-      const double* a = rest.block(s);
+    for (index_t s = rest.pattern->offsets[v]; s < rest.pattern->offsets[v + 1]; ++s) {
+      const index_t u = rest.pattern->columns[s];
+      const double* a = rest.slot(s);
       const double* pt = &tentative[static_cast<std::size_t>(u) * k * kModes];
       std::fill(product.begin(), product.end(), 0.0);
       for (int r = 0; r < k; ++r)
@@ -427,7 +426,7 @@ long long global_sum(MPI_Comm comm, long long value) {
 
 }  // namespace
 
-Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, BlockMatrix<double> fine_rest,
+Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, const BlockView& fine_rest,
                           const std::vector<std::uint8_t>& fixed_axes,
                           const HierarchyOptions& options) {
   DESCENT_VERIFY(options.cell > 0, "multilevel aggregation cell ", options.cell);
@@ -448,10 +447,13 @@ Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, BlockMatrix<doub
   for (std::size_t k = 0; k < finest.active.size(); ++k)
     near_null[kModes * k + k % 3] = finest.active[k] ? 1.0 : 0.0;
 
-  h.operator_pattern.push_back(fine_rest.pattern);
+  h.operator_pattern.push_back(*fine_rest.pattern);
   h.global_unknowns.push_back(global_sum(comm, 3LL * mesh.num_owned));
   h.levels.push_back(std::move(finest));
-  BlockMatrix<double> rest = std::move(fine_rest);
+  // The current level's operator at rest: the finest read in place, the
+  // coarser ones made here.
+  BlockView rest = fine_rest;
+  BlockMatrix<double> coarser;
   double cell = options.cell;
   while (h.global_unknowns.back() > options.coarse_size &&
          static_cast<int>(h.levels.size()) < options.max_levels) {
@@ -461,8 +463,8 @@ Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, BlockMatrix<doub
     if (unknowns > kMinShrink * static_cast<double>(h.global_unknowns.back())) break;
     BlockMatrix<double> coarse_rest;
     coarse_rest.row_block = coarse_rest.col_block = kModes;
-    coarse_rest.pattern = galerkin_pattern(rest.pattern, next.prolongation.pattern);
-    galerkin_product(rest.pattern, rest.values.data(), next.prolongation, coarse_rest.pattern,
+    coarse_rest.pattern = galerkin_pattern(*rest.pattern, next.prolongation.pattern);
+    galerkin_product(*rest.pattern, rest.values, next.prolongation, coarse_rest.pattern,
                      coarse_rest.values);
     h.operator_pattern.push_back(coarse_rest.pattern);
     h.global_unknowns.push_back(unknowns);
@@ -470,7 +472,8 @@ Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, BlockMatrix<doub
     h.prolongation.push_back(std::move(next.prolongation));
     h.levels.push_back(std::move(next.layout));
     near_null = std::move(next.near_null);
-    rest = std::move(coarse_rest);
+    coarser = std::move(coarse_rest);
+    rest = BlockView{&coarser.pattern, coarser.values.data(), kModes};
     cell *= 2;
   }
   return h;

@@ -81,8 +81,8 @@ struct Hierarchy {
 
 // Collective. `fine_rest`: this rank's partial Hessian of eps at the rest
 // state over its local vertices (3x3 blocks, held dofs' rows and columns 0,
-// vertex terms on owned vertices only).
-Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, BlockMatrix<double> fine_rest,
+// vertex terms on owned vertices only), read in place.
+Hierarchy build_hierarchy(MPI_Comm comm, const LocalMesh& mesh, const BlockView& fine_rest,
                           const std::vector<std::uint8_t>& fixed_axes,
                           const HierarchyOptions& options);
 

@@ -4,23 +4,11 @@
 #include <cstdint>
 
 #include "comm/mpi_check.hpp"
+#include "common/splitmix.hpp"
 #include "common/error.hpp"
 #include "solver/spectrum.hpp"
 
 namespace descent {
-
-namespace {
-
-// A deterministic value in [-1, 1] for unknown `id` (splitmix64).
-double noise(std::uint64_t id) {
-  std::uint64_t z = id + 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * (2.0 / 9007199254740992.0) - 1.0;
-}
-
-}  // namespace
 
 namespace {
 
@@ -110,7 +98,7 @@ std::vector<double> largest_eigenvalues(MPI_Comm comm, const std::vector<Lanczos
     for (index_t k = 0; k < t.size; ++k) {
       const std::uint64_t id =
           static_cast<std::uint64_t>(t.global[k / t.block]) * t.block + k % t.block;
-      s.w[k] = t.inv_diagonal[k] > 0 ? noise(id) : 0.0;
+      s.w[k] = t.inv_diagonal[k] > 0 ? unit_noise(id) : 0.0;
     }
     sums[i] = weighted(t, s.w);
   }
