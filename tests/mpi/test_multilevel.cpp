@@ -23,10 +23,10 @@
 
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
+#include "deformed_state.hpp"
 #include "kernels/cpu/host_exec.hpp"
 #include "solver/methods/hessian_operator.hpp"
 #include "solver/preconditioners/multilevel/multilevel_impl.hpp"
-#include "deformed_state.hpp"
 #include "world_rank.hpp"
 
 namespace descent {

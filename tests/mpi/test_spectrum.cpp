@@ -18,11 +18,11 @@
 
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
+#include "deformed_state.hpp"
 #include "kernels/vertex.hpp"
 #include "solver/iteration_engine.hpp"
 #include "solver/methods/hessian_operator.hpp"
 #include "solver/spectrum.hpp"
-#include "deformed_state.hpp"
 #include "world_rank.hpp"
 
 namespace descent {

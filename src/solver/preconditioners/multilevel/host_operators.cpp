@@ -4,8 +4,8 @@
 #include <cstdint>
 
 #include "comm/mpi_check.hpp"
-#include "common/splitmix.hpp"
 #include "common/error.hpp"
+#include "common/splitmix.hpp"
 #include "solver/spectrum.hpp"
 
 namespace descent {
