@@ -11,6 +11,10 @@ Reads what each part left in RESULTS and writes beside it:
   stiff.md                 time to e <= 1e-2 .. 1e-4 on the armadillos
   mainjob.md               ms per frame (median of 3 runs), set-up, memory
   refresh.md               ms per frame and iterations per step per refresh interval
+  bound.md                 the 316K helix's multilevel Chebyshev against its bound
+                           per Lanczos length and spectrum margin
+  stopping.md              where a step with solver.accuracy stops and the error
+                           there, per binary (label), size and target
 A part whose results are absent is skipped. Needs python3-matplotlib.
 """
 import csv
@@ -151,15 +155,7 @@ def resolution(base, out):
         if not m or ml not in cases:
             continue
         a, b = float(m.group(1)), float(m.group(2))
-        phi = 2 * math.atanh(math.sqrt(a / b))
-        worst, at = 0.0, 0
-        for r in cases[ml]:
-            k, e = int(r["k"]), float(r["rel_error"])
-            if k == 0 or not math.isfinite(e) or e < 1e-6:
-                continue
-            bound = 1 / math.cosh(k * phi) ** 2
-            if e / bound > worst:
-                worst, at = e / bound, k
+        worst, at = worst_against_bound(cases[ml], a, b)
         lines.append(f"- {name}: [{a:.4f}, {b:.4f}], kappa {b / a:.1f}: worst e_k / bound "
                      f"{worst:.3g} (k = {at})")
     with open(os.path.join(out, "resolution.md"), "w") as f:
@@ -254,6 +250,94 @@ def run_logs(base, part, title):
         f.write("\n".join(lines) + "\n")
 
 
+def case_bounds(directory):
+    """Per case: the [a, b] its log reports."""
+    log = os.path.join(directory, "progress.log")
+    if not os.path.exists(log):
+        return {}
+    found = re.findall(r"\] (\S+) .*lambda \[([\d.eE+-]+), ([\d.eE+-]+)\]", open(log).read())
+    return {name: (float(a), float(b)) for name, a, b in found}
+
+
+def worst_against_bound(rows, a, b, floor=1e-6):
+    """The largest e_k / (1 / T_k(1/rho)^2) over e_k >= floor, and its k."""
+    phi = 2 * math.atanh(math.sqrt(a / b))
+    worst, at = 0.0, 0
+    for r in rows:
+        k, e = int(r["k"]), float(r["rel_error"])
+        if k == 0 or not math.isfinite(e) or e < floor:
+            continue
+        if e * math.cosh(k * phi) ** 2 > worst:
+            worst, at = e * math.cosh(k * phi) ** 2, k
+    return worst, at
+
+
+def bound(base):
+    root = os.path.join(base, "bound", "helix_316k")
+    cases, _ = read_study(root)
+    if not cases:
+        return
+    bounds = case_bounds(root)
+    ks = [8, 16, 24, 32, 40]
+    lines = ["# The 316K helix: multilevel Chebyshev against its bound", "",
+             "One step from the same state (jobs/study/multilevel.sh bound). [a, b]: the bounds "
+             "the case ran with (Lanczos at the refresh state; b = (1 + margin) x its top Ritz "
+             "value); e_k: the relative error after k iterations; worst: the largest e_k / "
+             "(1 / T_k(1/rho)^2) over e_k >= 1e-6 (at most 1: the bound holds).", "",
+             "| case | [a, b] | " + " | ".join(f"e_{k}" for k in ks) + " | worst (k) |",
+             "|---|---|" + "---|" * len(ks) + "---|"]
+    for case, rows in cases.items():
+        if case not in bounds:
+            continue
+        a, b = bounds[case]
+        at_k = {int(r["k"]): float(r["rel_error"]) for r in rows}
+        worst, at = worst_against_bound(rows, a, b)
+        lines.append(f"| {case} | [{a:.4f}, {b:.4f}] | "
+                     + " | ".join(f"{at_k[k]:.2e}" if k in at_k else "-" for k in ks)
+                     + f" | {worst:.3g} ({at}) |")
+    with open(os.path.join(base, "bound.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def stopping(base):
+    root = os.path.join(base, "stopping")
+    if not os.path.isdir(root):
+        return
+    lines = ["# Where a step with solver.accuracy stops", "",
+             "Multilevel Chebyshev, one step from the same state per size (jobs/study/multilevel.sh "
+             "stopping), per binary: iterations at the stop / the relative error there (from "
+             "Newton's eps*); **bold** where the error exceeds the target.", ""]
+    for label in sorted(os.listdir(root)):
+        sizes = []
+        for name in os.listdir(os.path.join(root, label)):
+            cases, tets = read_study(os.path.join(root, label, name))
+            if cases:
+                sizes.append((tets or 0, name, cases))
+        if not sizes:
+            continue
+        sizes.sort()
+        # Cases are named accuracy_<target> as the study job spelled it.
+        targets = sorted({c.split("_", 1)[1] for _, _, cases in sizes for c in cases},
+                         key=float, reverse=True)
+        lines += [f"## {label}", "", "| size | " + " | ".join(f"e <= {t}" for t in targets) + " |",
+                  "|---|" + "---|" * len(targets)]
+        for _, name, cases in sizes:
+            cells = []
+            for t in targets:
+                rows = cases.get(f"accuracy_{t}")
+                if not rows:
+                    cells.append("-")
+                    continue
+                last = max(rows, key=lambda r: int(r["k"]))
+                e = float(last["rel_error"])
+                cell = f"{int(last['k'])} / {e:.2e}"
+                cells.append(f"**{cell}**" if e > float(t) else cell)
+            lines.append(f"| {name} | " + " | ".join(cells) + " |")
+        lines.append("")
+    with open(os.path.join(base, "stopping.md"), "w") as f:
+        f.write("\n".join(lines))
+
+
 def main():
     base = sys.argv[1] if len(sys.argv) > 1 else "bench/results/multilevel"
     resolution(base, base)
@@ -263,6 +347,8 @@ def main():
                 [1e-1, 1e-2, 1e-3, 1e-4])
     run_logs(base, "mainjob", "The main job (82K helix, 1e-2 a step, 2 ranks, 60 frames)")
     run_logs(base, "refresh", "The main job with multilevel, per solver.preconditioner_refresh")
+    bound(base)
+    stopping(base)
 
 
 if __name__ == "__main__":

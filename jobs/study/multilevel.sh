@@ -4,6 +4,7 @@
 # $ML_RESULTS (bench/results/multilevel by default), each with its
 # machine.txt; tables and plots by tools/multilevel_figures.py.
 #   jobs/study/multilevel.sh [resolution] [poisson] [stiff] [mainjob] [refresh]
+#                            [bound] [stopping]
 #  resolution: iterations and rank 0's time to e <= 1e-1 .. 1e-5 on the
 #              helix at 41K, 82K, 158K, 316K and 1M tets (resolution 7.15),
 #              2 ranks, 1 measured frame after 5 of 96 Jacobi iterations:
@@ -18,7 +19,14 @@
 #              set-up, peak memory, the preconditioner's costs
 #  refresh:    the main job with solver.preconditioner_refresh = 1, 2, 4:
 #              ms per frame and iterations per step
-# SIZES="41k 1M" limits the resolution part to those sizes. Needs a build
+#  bound:      the 316K helix, where multilevel Chebyshev fell below its
+#              bound: Lanczos at the refresh state with 20, 100 and 300
+#              steps, and b widened by spectrum_margin 0.3 and 0.6
+#  stopping:   multilevel Chebyshev at every size with solver.accuracy
+#              1e-2 .. 1e-6: where the step stops and the error there
+#              (into stopping/$STOPPING_LABEL, default "current": with
+#              DESCENT=<an older binary> and another label, a comparison)
+# SIZES="41k 1M" limits the resolution and stopping parts to those sizes. Needs a build
 # with PETSc (Newton's truth eps* is solved with its GAMG, as are two cases).
 source "$(dirname "$0")/common.sh"
 parts=("$@")
@@ -129,6 +137,27 @@ refresh() {
       --set solver.preconditioner_refresh=$every
   done
   rm -f "$base"/refresh/every_*/frames.*
+}
+
+bound() {
+  study "$base/bound/helix_316k" "$(helix_scene 316k)" --repeats 1 \
+    --case "lanczos_20:method=chebyshev $ML iterations=60" \
+    --case "lanczos_100:method=chebyshev $ML iterations=60 spectrum_steps=100" \
+    --case "lanczos_300:method=chebyshev $ML iterations=60 spectrum_steps=300" \
+    --case "margin_0.3:method=chebyshev $ML iterations=60 spectrum_margin=0.3" \
+    --case "margin_0.6:method=chebyshev $ML iterations=60 spectrum_margin=0.6"
+}
+
+stopping() {
+  local label=${STOPPING_LABEL:-current} size cases target
+  for size in 41k 82k 158k 316k 1M; do
+    if [ -n "${SIZES:-}" ] && [[ " $SIZES " != *" $size "* ]]; then continue; fi
+    cases=()
+    for target in 1e-2 1e-3 1e-4 1e-5 1e-6; do
+      cases+=(--case "accuracy_$target:method=chebyshev $ML accuracy=$target iterations=200")
+    done
+    study "$base/stopping/$label/helix_$size" "$(helix_scene "$size")" --repeats 1 "${cases[@]}"
+  done
 }
 
 for part in "${parts[@]}"; do "$part"; done
