@@ -324,10 +324,8 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
       history.record(chebyshev_k, check.checked_energy());
       if (schedule.phi > 0) {
         // Over the last checks, and over the last windows of kWideWindow.
-        const double noise = stats.energy_tolerance;
-        const double near = history.relative_error(stats.initial_energy, schedule.phi, 1, noise);
-        const double wide =
-            history.relative_error(stats.initial_energy, schedule.phi, kWideWindow, noise);
+        const double near = history.relative_error(stats.initial_energy, schedule.phi);
+        const double wide = history.relative_error(stats.initial_energy, schedule.phi, kWideWindow);
         stats.error_estimate = std::isnan(wide) ? near : std::max(near, wide);
         // Before the bound's count only when both are far below the target,
         // after it when what there is says so.
