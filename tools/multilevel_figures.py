@@ -13,6 +13,8 @@ Reads what each part left in RESULTS and writes beside it:
   refresh.md               ms per frame and iterations per step per refresh interval
   bound.md                 the 316K helix's multilevel Chebyshev against its bound
                            per Lanczos length and spectrum margin
+  unseen.md                the shared meshes under four materials: iterations,
+                           rank 0 ms and the error where each case's step stops
   stopping.md              where a step with solver.accuracy stops and the error
                            there, per binary (label), size and target
 A part whose results are absent is skipped. Needs python3-matplotlib.
@@ -299,6 +301,44 @@ def bound(base):
         f.write("\n".join(lines) + "\n")
 
 
+def stop_of(rows):
+    """(k, e, ms) of the last iterate a case's step reached."""
+    last = max(rows, key=lambda r: int(r["k"]))
+    return int(last["k"]), float(last["rel_error"]), float(last["ms"])
+
+
+def unseen(base):
+    root = os.path.join(base, "unseen")
+    if not os.path.isdir(root):
+        return
+    names = ["auto_1e-2", "jacobi_1e-2", "auto_1e-4"]
+    lines = ["# Meshes and materials nobody tuned for", "",
+             "Each mesh of ../shared/meshes scaled to 1 m and held at its lowest 5%, one step "
+             "after 5 warm-up frames (jobs/study/multilevel.sh unseen). Per case: iterations / "
+             "rank 0 ms / the relative error where the step stopped (from Newton's eps*); "
+             "**bold** where it exceeds the target. auto: the multilevel preconditioner.", "",
+             "| mesh, model, E, nu | tets | " + " | ".join(names) + " | time jacobi / auto to 1e-2 |",
+             "|---|---|" + "---|" * len(names) + "---|"]
+    for name in sorted(os.listdir(root)):
+        cases, tets = read_study(os.path.join(root, name))
+        if not cases:
+            continue
+        cells, stops = [], {}
+        for case in names:
+            if case not in cases:
+                cells.append("-")
+                continue
+            k, e, ms = stops[case] = stop_of(cases[case])
+            cell = f"{k} / {ms:.0f} / {e:.1e}"
+            cells.append(f"**{cell}**" if e > float(case.split("_", 1)[1]) else cell)
+        ratio = (f"{stops['jacobi_1e-2'][2] / stops['auto_1e-2'][2]:.1f}x"
+                 if "jacobi_1e-2" in stops and "auto_1e-2" in stops else "-")
+        lines.append(f"| {name.replace('_', ' ')} | {fmt(tets)} | " + " | ".join(cells)
+                     + f" | {ratio} |")
+    with open(os.path.join(base, "unseen.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
 def stopping(base):
     root = os.path.join(base, "stopping")
     if not os.path.isdir(root):
@@ -328,9 +368,8 @@ def stopping(base):
                 if not rows:
                     cells.append("-")
                     continue
-                last = max(rows, key=lambda r: int(r["k"]))
-                e = float(last["rel_error"])
-                cell = f"{int(last['k'])} / {e:.2e}"
+                k, e, _ = stop_of(rows)
+                cell = f"{k} / {e:.2e}"
                 cells.append(f"**{cell}**" if e > float(t) else cell)
             lines.append(f"| {name} | " + " | ".join(cells) + " |")
         lines.append("")
@@ -348,6 +387,7 @@ def main():
     run_logs(base, "mainjob", "The main job (82K helix, 1e-2 a step, 2 ranks, 60 frames)")
     run_logs(base, "refresh", "The main job with multilevel, per solver.preconditioner_refresh")
     bound(base)
+    unseen(base)
     stopping(base)
 
 

@@ -22,6 +22,13 @@
 #  bound:      the 316K helix, where multilevel Chebyshev fell below its
 #              bound: Lanczos at the refresh state with 20, 100 and 300
 #              steps, and b widened by spectrum_margin 0.3 and 0.6
+#  unseen:     every mesh of ../shared/meshes (skipped without them; the
+#              .vtu converted by meshio), scaled to 1 m and held at its
+#              lowest 5%, under four materials (neo-Hookean soft and nearly
+#              incompressible-stiff, StVK, corotated): the automatic
+#              preconditioner against Jacobi's to 1e-2, and to 1e-4, with
+#              the error where each step stops; and `descent run` of the
+#              soft raptor (it collapses) for 30 frames with each
 #  stopping:   multilevel Chebyshev at every size with solver.accuracy
 #              1e-2 .. 1e-6: where the step stops and the error there
 #              (into stopping/$STOPPING_LABEL, default "current": with
@@ -146,6 +153,81 @@ bound() {
     --case "lanczos_300:method=chebyshev $ML iterations=60 spectrum_steps=300" \
     --case "margin_0.3:method=chebyshev $ML iterations=60 spectrum_margin=0.3" \
     --case "margin_0.6:method=chebyshev $ML iterations=60 spectrum_margin=0.6"
+}
+
+# A scene for a mesh file: scaled to 1 m tall, its lowest 5% held.
+mesh_scene() {  # mesh_scene MESH MODEL YOUNG POISSON OUT
+  local mesh=$1 model=$2 young=$3 poisson=$4 out=$5
+  $PYTHON - "$mesh" "$model" "$young" "$poisson" "$out" > "$out" <<'PY'
+import os, sys, meshio
+mesh, model, young, poisson, out = sys.argv[1:]
+p = meshio.read(mesh).points
+mesh = os.path.relpath(mesh, os.path.dirname(os.path.abspath(out)))  # as scenes name files
+scale = 1.0 / (p[:, 1].max() - p[:, 1].min())
+held = (p[:, 1].min() + 0.05 * (p[:, 1].max() - p[:, 1].min())) * scale
+print(f'''gravity = [0.0, -9.81, 0.0]
+[mesh]
+file = "{mesh}"
+scale = {scale:.6g}
+[material]
+model = "{model}"
+young = {young}
+poisson = {poisson}
+density = 1000
+[[fixed]]
+box_min = [-1e3, -1e3, -1e3]
+box_max = [1e3, {held:.6g}, 1e3]
+axes = "xyz"
+[time]
+dt = 0.03333333333333333
+[solver]
+method = "chebyshev"''')
+PY
+}
+
+unseen() {
+  local shared=../shared/meshes tmp mesh name material model young poisson
+  if [ ! -d "$shared" ]; then
+    echo "multilevel.sh unseen: $shared is absent: skipped" >&2
+    return
+  fi
+  tmp=$(mktemp -d)
+  mkdir -p "$base/unseen/scenes"
+  for mesh in "$shared"/*.ele "$shared"/*.msh "$shared"/*.mesh "$shared"/*.vtu; do
+    [ -e "$mesh" ] || continue
+    name=$(basename "${mesh%.*}")
+    if [[ $mesh == *.vtu ]]; then  # not a format descent reads: Gmsh 2.2 by meshio
+      $PYTHON -c "import meshio, sys; meshio.write(sys.argv[2], meshio.read(sys.argv[1]), file_format='gmsh22', binary=False)" \
+        "$mesh" "$tmp/$name.msh"
+      mesh=$tmp/$name.msh
+    fi
+    [[ $mesh == *.ele ]] && mesh=${mesh%.ele}.node
+    for material in "neo_hookean 1e5 0.3" "neo_hookean 1e7 0.49" "stvk 1e6 0.4" "corotated 1e6 0.45"; do
+      read -r model young poisson <<<"$material"
+      local scene="$base/unseen/scenes/${name}_${model}_${young}_${poisson}.toml"
+      mesh_scene "$mesh" "$model" "$young" "$poisson" "$scene"
+      study "$base/unseen/${name}_${model}_${young}_${poisson}" "$scene" --repeats 1 \
+        --case "auto_1e-2:method=chebyshev preconditioner=\"auto\" accuracy=1e-2 iterations=1000" \
+        --case "jacobi_1e-2:method=chebyshev accuracy=1e-2 iterations=4000" \
+        --case "auto_1e-4:method=chebyshev preconditioner=\"auto\" accuracy=1e-4 iterations=1000"
+    done
+  done
+  # The soft raptor, as a user would run it: 30 frames to 1e-2 a step.
+  local raptor="$base/unseen/scenes/raptorTetra_19409_neo_hookean_1e5_0.3.toml"
+  if [ -e "$tmp/raptorTetra_19409.msh" ]; then
+    sed "s#^file = .*#file = \"$tmp/raptorTetra_19409.msh\"#" "$raptor" > "$tmp/raptor.toml"
+    mkdir -p "$base/unseen/raptor_runs"
+    for pre in auto jacobi; do
+      local out="$base/unseen/raptor_runs/$pre"
+      local cmd=($MPIEXEC -n 2 "$DESCENT" run "$tmp/raptor.toml" --overwrite --out "$out"
+                 --set time.frames=30 --set solver.accuracy=1e-2 --set solver.iterations=1000
+                 --set "solver.preconditioner=\"$pre\"")
+      machine "${cmd[*]}" > "$out.machine.txt"
+      "${cmd[@]}" > "$out.log" 2>&1
+      rm -f "$out"/frames.* "$out"/checkpoint/*
+    done
+  fi
+  rm -rf "$tmp"
 }
 
 stopping() {
