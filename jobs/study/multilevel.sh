@@ -206,6 +206,8 @@ unseen() {
       read -r model young poisson <<<"$material"
       local scene="$base/unseen/scenes/${name}_${model}_${young}_${poisson}.toml"
       mesh_scene "$mesh" "$model" "$young" "$poisson" "$scene"
+      [[ $mesh == "$tmp"/* ]] &&
+        sed -i "1i # [mesh] file: $(basename "$mesh") converted by meshio from ../shared/meshes at run time (jobs/study/multilevel.sh unseen)" "$scene"
       study "$base/unseen/${name}_${model}_${young}_${poisson}" "$scene" --repeats 1 \
         --case "auto_1e-2:method=chebyshev preconditioner=\"auto\" accuracy=1e-2 iterations=1000" \
         --case "jacobi_1e-2:method=chebyshev accuracy=1e-2 iterations=4000" \
