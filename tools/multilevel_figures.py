@@ -151,12 +151,10 @@ def resolution(base, out):
               "Per size: [a, b] the case estimated, and the largest e_k / (1 / T_k(1/rho)^2) "
               "over its iterations with e_k >= 1e-6 (below, the truth's Newton tolerance and the energy's nonlinearity set the floor; at most 1: the bound holds).", ""]
     for tets, name, cases in sizes:
-        log = os.path.join(root, name, "progress.log")
-        m = re.search(r"chebyshev_multilevel .*lambda \[([\d.eE+-]+), ([\d.eE+-]+)\]",
-                      open(log).read()) if os.path.exists(log) else None
-        if not m or ml not in cases:
+        bounds = case_bounds(os.path.join(root, name))
+        if ml not in bounds or ml not in cases:
             continue
-        a, b = float(m.group(1)), float(m.group(2))
+        a, b = bounds[ml]
         worst, at = worst_against_bound(cases[ml], a, b)
         lines.append(f"- {name}: [{a:.4f}, {b:.4f}], kappa {b / a:.1f}: worst e_k / bound "
                      f"{worst:.3g} (k = {at})")

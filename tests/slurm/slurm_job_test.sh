@@ -32,7 +32,7 @@ bin=$build/src/app/descent
 for command in munged slurmctld slurmd sbatch squeue scontrol scancel; do
   command -v "$command" >/dev/null || skip "no $command (Debian: apt-get install slurm-wlm munge)"
 done
-python=/usr/bin/python3
+python=${PYTHON:-/usr/bin/python3}  # Debian's, where apt installs h5py and matplotlib
 "$python" -c 'import h5py' 2>/dev/null || skip "no h5py for $python (Debian: python3-h5py)"
 "$python" -c 'import matplotlib' 2>/dev/null || skip "no matplotlib for $python (Debian: python3-matplotlib)"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
