@@ -14,7 +14,7 @@ bool scene_needs_measurements(const Scene& scene) {
   bool moving = false;
   for (const FixedRegion& region : scene.fixed) moving = moving || region.motion.kind != "none";
   return moving || !scene.loads.empty() || scene.time.quasistatic ||
-         scene.material.conversion.enabled;
+         scene.material.conversion.enabled || !scene.obstacles.empty();
 }
 
 std::vector<std::string> scene_measurement_names(const Scene& scene) {
@@ -30,6 +30,11 @@ std::vector<std::string> scene_measurement_names(const Scene& scene) {
     for (const char* a : xyz) names.push_back(detail::concat("load", r, "_force_", a));
   }
   if (scene.material.conversion.enabled) names.push_back("converted_elements");
+  for (std::size_t k = 0; k < scene.obstacles.size(); ++k) {
+    for (const char* a : xyz) names.push_back(detail::concat("obstacle", k, "_force_", a));
+    names.push_back(detail::concat("obstacle", k, "_contacts"));
+  }
+  if (!scene.obstacles.empty()) names.push_back("contact_penetration");
   return names;
 }
 
@@ -155,6 +160,13 @@ std::vector<double> Simulation<Real>::measure() {
   const auto& interpolants = problem_.interpolants();
   sums.push_back(static_cast<double>(
       std::count_if(interpolants.begin(), interpolants.end(), [](Real l) { return l > 0; })));
+  // Per obstacle: the force on it and the vertices touching it (4 sums).
+  const ObstacleContact<Real>* contact = problem_.contact();
+  const std::size_t contact_at = sums.size();
+  if (contact) {
+    const std::vector<double> c = contact->local_sums(state_.q.data());
+    sums.insert(sums.end(), c.begin(), c.end());
+  }
   reduction_.sum_in_place(sums);
   // Sums -> means and totals, in the order of measurement_names_.
   std::vector<double> values;
@@ -170,7 +182,11 @@ std::vector<double> Simulation<Real>::measure() {
     const std::array<double, 3> force = load_force(scene_.loads[r], state_.time);
     for (int i = 0; i < 3; ++i) values.push_back(force[i]);
   }
-  if (scene_.material.conversion.enabled) values.push_back(sums.back());
+  if (scene_.material.conversion.enabled) values.push_back(sums[contact_at - 1]);
+  if (contact) {
+    values.insert(values.end(), sums.begin() + contact_at, sums.end());
+    values.push_back(reduction_.max_of(contact->local_penetration(state_.q.data())));
+  }
   return values;
 }
 

@@ -88,6 +88,43 @@ struct LoadRegion {
   bool contains(const double* p) const { return in_box(box_min, box_max, p); }
 };
 
+// A rigid obstacle ([[obstacle]]) the body may touch but not enter:
+//   plane:  the half-space behind `point` along -`normal` is solid
+//   sphere: the ball of `radius` about `centre`
+//   box:    the box [box_min, box_max] is solid
+// `motion` moves it rigidly (as it moves a fixed region: translate by
+// velocity t, or rotate about centre and axis) until `motion.until`.
+// `friction` is the Coulomb coefficient between it and the body.
+struct Obstacle {
+  std::string kind = "plane";  // plane, sphere, box
+  std::array<double, 3> point{};
+  std::array<double, 3> normal{0.0, 1.0, 0.0};
+  std::array<double, 3> centre{};
+  double radius = 0;
+  std::array<double, 3> box_min{};
+  std::array<double, 3> box_max{};
+  double friction = 0;
+  Motion motion;
+};
+
+// How the body and the obstacles keep apart (docs/contact.md).
+struct ContactSpec {
+  // "energy": a barrier in eps, active below `distance`, with lagged
+  // friction (paper 1, Sec. 8's repulsive potential; IPC's barrier);
+  // "projection": vertices inside an obstacle are moved out at the end of
+  // each step and their velocity updated (paper 2's collision pass).
+  std::string method = "energy";
+  // Activation distance d_hat of the barrier (m); 0: 1e-3 of the diagonal
+  // of the body's bounding box.
+  double distance = 0;
+  // Barrier stiffness kappa (N/m); 0: per vertex, the stiffness its mass and
+  // the elasticity around it give it (m/h^2 plus the rest Hessian diagonal).
+  double stiffness = 0;
+  // Lagged friction's smoothing velocity eps_v (m/s): slower relative
+  // sliding is resisted elastically (static friction's creep).
+  double smoothing_velocity = 1.0e-3;
+};
+
 struct TimeSpec {
   double dt = 1.0 / 30.0;  // s
   int frames = 60;
@@ -207,7 +244,9 @@ struct Scene {
   MaterialSpec material;
   std::array<double, 3> gravity{0.0, -9.81, 0.0};
   std::vector<FixedRegion> fixed;
-  std::vector<LoadRegion> loads;  // [[load]]
+  std::vector<LoadRegion> loads;    // [[load]]
+  std::vector<Obstacle> obstacles;  // [[obstacle]]
+  ContactSpec contact;
   TimeSpec time;
   SolverSpec solver;
   PartitionSpec partition;

@@ -5,6 +5,7 @@
 #include <initializer_list>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "common/error.hpp"
 
@@ -83,6 +84,62 @@ void check_entry(const SceneDocument& doc, const FixedRegion& region, const std:
 void check_entry(const SceneDocument& doc, const LoadRegion& region, const std::string& prefix) {
   check_box_order(doc, prefix, region.box_min, region.box_max);
   require(doc, region.ramp >= 0, prefix + "ramp", ">= 0", region.ramp);
+}
+
+// An [[obstacle]] table; `prefix` names it ("obstacle.0."). The keys of its
+// shape are those of its kind only: a radius set on a plane would be
+// silently ignored, so it is an error.
+void check_entry(const SceneDocument& doc, const Obstacle& obstacle, const std::string& prefix) {
+  require_one_of(doc, prefix + "kind", obstacle.kind, {"plane", "sphere", "box"});
+  const std::initializer_list<std::pair<std::string_view, std::string_view>> shape_keys = {
+      {"point", "plane"},   {"normal", "plane"}, {"centre", "sphere"},
+      {"radius", "sphere"}, {"box_min", "box"},  {"box_max", "box"}};
+  for (const auto& [key, kind] : shape_keys) {
+    const std::string full = prefix + std::string(key);
+    if (kind != obstacle.kind && doc.has(full))
+      throw InputError(detail::concat(doc.where(full), ": ", full, " belongs to an obstacle of ",
+                                      prefix, "kind = \"", kind, "\", but this one is \"",
+                                      obstacle.kind, "\""));
+  }
+  if (obstacle.kind == "plane" && obstacle.normal == std::array<double, 3>{}) {
+    const std::string key = prefix + "normal";
+    throw InputError(detail::concat(doc.where(key), ": ", key,
+                                    " must not be [0, 0, 0]: it says which side is solid"));
+  }
+  if (obstacle.kind == "sphere")
+    require(doc, obstacle.radius > 0, prefix + "radius", "> 0", obstacle.radius);
+  if (obstacle.kind == "box") {
+    check_box_order(doc, prefix, obstacle.box_min, obstacle.box_max);
+    for (std::size_t axis = 0; axis < 3; ++axis)
+      if (obstacle.box_min[axis] == obstacle.box_max[axis]) {
+        const std::string key = prefix + "box_max";
+        throw InputError(detail::concat(doc.where(key), ": ", key, " must exceed ", prefix,
+                                        "box_min along every axis (a solid box), but its ",
+                                        "xyz"[axis], " equals it"));
+      }
+  }
+  require(doc, obstacle.friction >= 0, prefix + "friction", ">= 0", obstacle.friction);
+  check_motion(doc, obstacle.motion, prefix + "motion.");
+}
+
+void check_contact(const SceneDocument& doc, const Scene& scene) {
+  const ContactSpec& contact = scene.contact;
+  require_one_of(doc, "contact.method", contact.method, {"energy", "projection"});
+  require(doc, contact.distance >= 0, "contact.distance", ">= 0 (0: from the body's size)",
+          contact.distance);
+  require(doc, contact.stiffness >= 0, "contact.stiffness", ">= 0 (0: from masses and material)",
+          contact.stiffness);
+  require(doc, contact.smoothing_velocity > 0, "contact.smoothing_velocity", "> 0",
+          contact.smoothing_velocity);
+  // The barrier lives in the energy that the Chebyshev iteration descends;
+  // the other methods do not yet evaluate it or keep iterates outside the
+  // obstacles.
+  if (!scene.obstacles.empty() && contact.method == "energy" && scene.solver.method != "chebyshev")
+    throw InputError(detail::concat(doc.where("solver.method"),
+                                    ": obstacles with contact.method = \"energy\" need "
+                                    "solver.method = chebyshev (got ",
+                                    scene.solver.method,
+                                    "); contact.method = \"projection\" works with every method"));
 }
 
 // A material parameter only some models use. Set to nonzero for another
@@ -396,6 +453,8 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
                  {"constant_acceleration", "position", "velocity", "optimized"});
   require(doc, solver.eta >= 0, "solver.eta", ">= 0", solver.eta);
   require(doc, solver.damping >= 0, "solver.damping", ">= 0", solver.damping);
+
+  check_contact(doc, scene);
 
   require_one_of(doc, "partition.method", scene.partition.method, {"auto", "metis", "ptscotch"});
   require(doc, scene.partition.tries >= 1 && scene.partition.tries <= 100, "partition.tries",

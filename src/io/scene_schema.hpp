@@ -93,6 +93,11 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("solver.multilevel_smoother_degree", solver.multilevel_smoother_degree);
   visit("solver.multilevel_coarse_size", solver.multilevel_coarse_size);
 
+  visit("contact.method", scene.contact.method);
+  visit("contact.distance", scene.contact.distance);
+  visit("contact.stiffness", scene.contact.stiffness);
+  visit("contact.smoothing_velocity", scene.contact.smoothing_velocity);
+
   visit("partition.method", scene.partition.method);
   visit("partition.tries", scene.partition.tries);
 
@@ -110,6 +115,18 @@ template <class SceneType, class Visit>
 void visit_scene_arrays(SceneType& scene, Visit&& visit) {
   visit("fixed", scene.fixed);
   visit("load", scene.loads);
+  visit("obstacle", scene.obstacles);
+}
+
+// The keys of an optional motion table ([fixed.motion], [obstacle.motion]).
+template <class Visit>
+void visit_motion_keys(Motion& motion, Visit&& visit) {
+  visit("motion.kind", motion.kind);
+  visit("motion.velocity", motion.velocity);
+  visit("motion.axis", motion.axis);
+  visit("motion.centre", motion.centre);
+  visit("motion.angular_velocity", motion.angular_velocity);
+  visit("motion.until", motion.until);
 }
 
 template <class Visit>
@@ -117,13 +134,20 @@ void visit_entry_keys(FixedRegion& region, Visit&& visit) {
   visit("box_min", region.box_min);
   visit("box_max", region.box_max);
   visit("axes", region.axes);
-  Motion& motion = region.motion;  // the optional [fixed.motion] table
-  visit("motion.kind", motion.kind);
-  visit("motion.velocity", motion.velocity);
-  visit("motion.axis", motion.axis);
-  visit("motion.centre", motion.centre);
-  visit("motion.angular_velocity", motion.angular_velocity);
-  visit("motion.until", motion.until);
+  visit_motion_keys(region.motion, visit);
+}
+
+template <class Visit>
+void visit_entry_keys(Obstacle& obstacle, Visit&& visit) {
+  visit("kind", obstacle.kind);
+  visit("point", obstacle.point);
+  visit("normal", obstacle.normal);
+  visit("centre", obstacle.centre);
+  visit("radius", obstacle.radius);
+  visit("box_min", obstacle.box_min);
+  visit("box_max", obstacle.box_max);
+  visit("friction", obstacle.friction);
+  visit_motion_keys(obstacle.motion, visit);
 }
 
 template <class Visit>

@@ -409,6 +409,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
   // The step's result is the best checked state: the current iterate unless
   // the last check tolerated a rise.
   engine_->download(!best_is_current);
+  problem_.end_contact_step(q_, qt_);
   commit_step(q_, qt_, problem_.dt(), t_next, state);
   return stats;
 }

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "kernels/contact_loops.hpp"
 #include "kernels/exec_array.hpp"
 #include "kernels/loops.hpp"
 #include "solver/iteration_engine.hpp"
@@ -71,6 +72,18 @@ class EngineImpl final : public IterationEngine<Real> {
     if (halo_.num_neighbours() > 0) stage_ = make_pinned<Real>(2 * n3_);
     for (Array<Real>* a : {&stage_q_, &stage_y_, &stage_qt_, &stage_force_, &stage_vector_})
       *a = make_pinned<Real>(n3_);
+    if (problem.contact() && problem.contact()->energy_method()) {
+      const ObstacleContact<Real>& c = *problem.contact();
+      contact_ = c.view();
+      contact_vertices_ = constant(c.vertices().data(), c.vertices().size(), memory_.vertex_bytes);
+      contact_kappa_ = constant(c.kappa().data(), c.kappa().size(), memory_.vertex_bytes);
+      contact_lags_ = constant(c.lags().data(), c.lags().size(), memory_.vertex_bytes);
+      contact_geometry_ = constant(c.geometry().data(), c.geometry().size(), memory_.other_bytes);
+      contact_.vertices = contact_vertices_.data();
+      contact_.kappa = contact_kappa_.data();
+      contact_.lags = contact_lags_.data();
+      contact_.obstacles = contact_geometry_.data();
+    }
     reserve_params(64);
   }
 
@@ -89,6 +102,13 @@ class EngineImpl final : public IterationEngine<Real> {
     exec_.copy(kMain, qt_.data(), stage_qt_.data(), bytes);
     if (upload_force) exec_.copy(kMain, force_.data(), stage_force_.data(), bytes);
     if (converting_) exec_.copy(kMain, interpolant_.data(), interpolants, interpolant_.bytes());
+    // The obstacles where the step ends and the friction lags of its start
+    // (on the host the engine reads the problem's own).
+    if (contact_.num_vertices > 0 && !Exec::kHostMemory) {
+      const ObstacleContact<Real>& c = *problem_.contact();
+      exec_.copy(kMain, contact_lags_.data(), c.lags().data(), contact_lags_.bytes());
+      exec_.copy(kMain, contact_geometry_.data(), c.geometry().data(), contact_geometry_.bytes());
+    }
     // The host may change its buffers as soon as this returns.
     exec_.sync(kMain);
   }
@@ -134,7 +154,9 @@ class EngineImpl final : public IterationEngine<Real> {
                                                           rest_.data(), nt_, vd, owned_);
         },
         model_);
-    return {s.value, s.magnitude};
+    if (contact_.num_vertices == 0) return {s.value, s.magnitude};
+    const Sum2 c = loops::contact_energy(exec_, kMain, contact_, q, qt_.data());
+    return {s.value + c.value, s.magnitude + c.magnitude};
   }
 
   void accept() override { exec_.copy(kMain, checked_.data(), q_[cur_].data(), checked_.bytes()); }
@@ -160,6 +182,7 @@ class EngineImpl final : public IterationEngine<Real> {
     assemble([&](int stream, index_t begin,
                  index_t end) { element_pass(stream, q_[cur_].data(), begin, end, true, 6); },
              true, 6);
+    add_contact(q_[cur_].data(), 6, nullptr);
     loops::diagonal_update(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), diag_.data());
     exec_.sync(kMain);
   }
@@ -173,8 +196,10 @@ class EngineImpl final : public IterationEngine<Real> {
     }
     const std::string kind = preconditioner_of(spec);
     if (kind == "multilevel") {
-      preconditioner_ =
+      auto multilevel =
           std::make_unique<MultilevelPreconditioner<Exec, Real>>(exec_, problem_, spec);
+      if (contact_.num_vertices > 0) multilevel->use_contact(contact_, qt_.data());
+      preconditioner_ = std::move(multilevel);
     } else if constexpr (Exec::kHostMemory) {
       preconditioner_ = make_host_preconditioner(problem_, spec);
     } else {
@@ -183,6 +208,15 @@ class EngineImpl final : public IterationEngine<Real> {
                                       "solver.preconditioner = \"multilevel\""));
     }
     DESCENT_VERIFY(preconditioner_, "no preconditioner for ", kind);
+    if (contact_.num_vertices > 0) {
+      const std::size_t n = 3 * static_cast<std::size_t>(contact_.num_vertices);
+      contact_base_ = constant(problem_.contact()->base().data(), n, memory_.vertex_bytes);
+      contact_reference_ = make<Real>(n, memory_.vertex_bytes);
+      contact_scale_ = make<Real>(n, memory_.vertex_bytes);
+      contact_.base = contact_base_.data();
+      contact_.reference = contact_reference_.data();
+      contact_.scale = contact_scale_.data();
+    }
     if (converting_) preconditioner_->read_interpolants_from(interpolant_.data());
     gradient_ = make<Real>(n3_, memory_.vertex_bytes);
     direction_ = make<Real>(n3_, memory_.vertex_bytes);
@@ -191,6 +225,8 @@ class EngineImpl final : public IterationEngine<Real> {
   void refresh_preconditioner() override {
     exec_.sync(kMain);
     preconditioner_->refresh(q_[cur_].data());
+    if (contact_.num_vertices > 0)
+      loops::contact_reference(exec_, kMain, contact_, q_[cur_].data(), qt_.data());
   }
 
   std::array<double, 6> translation_sums() override {
@@ -243,7 +279,11 @@ class EngineImpl final : public IterationEngine<Real> {
     assemble([&](int stream, index_t begin,
                  index_t end) { hessian_product_pass(stream, q, v, begin, end); },
              false, 3);
-    // partial_ holds the elastic part, 3 per vertex.
+    // partial_ holds the elastic part, 3 per vertex; the contact Hessian's
+    // product joins it.
+    if (contact_.num_vertices > 0)
+      loops::add_contact_hessian_product(exec_, kMain, contact_, vertex_data(), q, v,
+                                         partial_.data());
     return loops::hessian_vertex_terms(exec_, kMain, 3 * nv_, 3 * owned_, vertex_data(),
                                        partial_.data(), v, lanczos_[kY].data());
   }
@@ -462,11 +502,32 @@ class EngineImpl final : public IterationEngine<Real> {
     assemble([&](int stream, index_t begin,
                  index_t end) { element_pass(stream, q, begin, end, false, 3); },
              false, 3);
+    add_contact(q, 3, nullptr);
     loops::gradient_dofs(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), q,
                          gradient_.data());
+    if (contact_.num_vertices > 0)
+      loops::apply_contact_scale(exec_, kMain, contact_, gradient_.data());
     preconditioner_->apply(gradient_.data(), direction_.data());
+    if (contact_.num_vertices > 0)
+      loops::apply_contact_scale(exec_, kMain, contact_, direction_.data());
     loops::preconditioned_update(exec_, kMain, 3 * nv_, fixed_.data(), direction_.data(), q,
                                  q_[(c + 2) % 3].data(), q_[(c + 1) % 3].data(), params);
+    guard(q, q_[(c + 1) % 3].data());
+  }
+
+  // The contact terms at q joined to the assembled partials (`width` per
+  // vertex) and `diag` raised to them (kernels/contact_loops.hpp); nothing
+  // without contact.
+  void add_contact(const Real* q, int width, Real* diag) {
+    if (contact_.num_vertices == 0) return;
+    loops::add_contact_gradient(exec_, kMain, contact_, vertex_data(), q, partial_.data(), width,
+                                diag);
+  }
+
+  // No surface vertex's move from q to q_next enters an obstacle.
+  void guard(const Real* q, Real* q_next) {
+    if (contact_.num_vertices == 0) return;
+    loops::guard_moves(exec_, kMain, contact_, fixed_.data(), q, q_next);
   }
 
   // One iteration from buffer `c` (current), (c + 2) % 3 (previous) into
@@ -477,8 +538,10 @@ class EngineImpl final : public IterationEngine<Real> {
     assemble([&](int stream, index_t begin,
                  index_t end) { element_pass(stream, q, begin, end, refresh, width); },
              refresh, width);
+    add_contact(q, width, refresh ? nullptr : diag_.data());
     loops::vertex_update(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), width, refresh,
                          diag_.data(), q, q_[(c + 2) % 3].data(), q_[(c + 1) % 3].data(), params);
+    guard(q, q_[(c + 1) % 3].data());
   }
 
   Exec exec_;
@@ -507,6 +570,13 @@ class EngineImpl final : public IterationEngine<Real> {
   Array<Real> stage_;                 // exchange (pinned host)
   Array<Real> stage_q_, stage_y_, stage_qt_, stage_force_, stage_vector_;  // (pinned host)
   Array<loops::IterationParams<Real>> params_, params_host_;
+  // Obstacle contact with contact.method = "energy" (num_vertices 0 without).
+  ContactView<Real> contact_;
+  Array<index_t> contact_vertices_;
+  Array<Real> contact_kappa_;
+  Array<FrictionLag<Real>> contact_lags_;
+  Array<ObstacleGeometry<Real>> contact_geometry_;
+  Array<Real> contact_base_, contact_reference_, contact_scale_;  // with a preconditioner
 };
 
 }  // namespace descent

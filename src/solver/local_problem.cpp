@@ -127,19 +127,23 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   // small fraction of the rest stiffness, so d stays positive where a model's
   // curvature is not.
   diagonal_floor_.resize(3 * static_cast<std::size_t>(nv));
-  if (dynamic) {
-    for (index_t v = 0; v < nv; ++v)
-      for (int i = 0; i < 3; ++i)
-        diagonal_floor_[3 * v + i] = mass_[v] * (terms_.inv_h2 + terms_.damping_over_h);
-  } else {
+  std::vector<Real> rest_diagonal;
+  if (!dynamic || !scene.obstacles.empty()) {
     const std::vector<Real> rest(x.begin(), x.end());
     const Assembled at_rest = elastic_gradient(rest.data(), true);
-    constexpr Real kRestStiffnessFraction = Real(1e-3);
+    rest_diagonal.resize(3 * static_cast<std::size_t>(nv));
     for (index_t v = 0; v < nv; ++v)
       for (int i = 0; i < 3; ++i)
-        diagonal_floor_[3 * v + i] =
-            kRestStiffnessFraction * at_rest.values[at_rest.width * v + 3 + i];
+        rest_diagonal[3 * v + i] = at_rest.values[at_rest.width * v + 3 + i];
   }
+  constexpr Real kRestStiffnessFraction = Real(1e-3);
+  for (index_t v = 0; v < nv; ++v)
+    for (int i = 0; i < 3; ++i)
+      diagonal_floor_[3 * v + i] = dynamic ? mass_[v] * (terms_.inv_h2 + terms_.damping_over_h)
+                                           : kRestStiffnessFraction * rest_diagonal[3 * v + i];
+  if (!scene.obstacles.empty())
+    contact_ = std::make_unique<ObstacleContact<Real>>(mesh, scene, halo_, reduction_, mass_,
+                                                       rest_diagonal, terms_.inv_h2);
 }
 
 template <class Real>
@@ -279,7 +283,19 @@ Energy LocalProblem<Real>::local_energy(const Real* q, const Real* y, const Real
                                                 vd, mesh_.num_owned);
       },
       model_);
-  return {s.value, s.magnitude};
+  if (!contact_) return {s.value, s.magnitude};
+  const Energy contact = contact_->local_energy(q, qt);
+  return {s.value + contact.value, s.magnitude + contact.magnitude};
+}
+
+template <class Real>
+void LocalProblem<Real>::begin_contact_step(double t, const Real* qt, Real* q) {
+  if (contact_) contact_->begin_step(t, qt, q);
+}
+
+template <class Real>
+void LocalProblem<Real>::end_contact_step(Real* q, const Real* qt) {
+  if (contact_) contact_->project(q, qt);
 }
 
 template class LocalProblem<double>;

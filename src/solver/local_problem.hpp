@@ -7,10 +7,12 @@
 // Layout: every per-vertex array is xyz-interleaved over local vertices
 // (LocalMesh order: interior, shared owned, shared not owned).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "comm/halo.hpp"
 #include "comm/reduction.hpp"
+#include "contact/obstacle_contact.hpp"
 #include "io/scene.hpp"
 #include "kernels/conversion.hpp"
 #include "kernels/tet.hpp"
@@ -49,6 +51,19 @@ class LocalProblem {
 
   // Sets the loads to their values at time t (the end of the step).
   void begin_step(double t);
+  // Contact with the scene's obstacles (null without [[obstacle]]): its
+  // terms join eps (contact.method = "energy"), or it corrects each step's
+  // result ("projection").
+  ObstacleContact<Real>* contact() { return contact_.get(); }
+  const ObstacleContact<Real>* contact() const { return contact_.get(); }
+  // A step from time t (step-start positions qt) with guess q: the
+  // obstacles placed for it and q kept outside them (ObstacleContact::
+  // begin_step); nothing without obstacles. Called after the guess is made.
+  void begin_contact_step(double t, const Real* qt, Real* q);
+  // The step's result q corrected by the projection pass (contact.method =
+  // "projection"), before the velocity is formed from it.
+  void end_contact_step(Real* q, const Real* qt);
+
   // Writes the prescribed positions at time t into the held dofs of q.
   void hold_fixed(double t, Real* q) const;
 
@@ -71,8 +86,9 @@ class LocalProblem {
   Assembled elastic_gradient(const Real* q, bool with_diagonal);
 
   // This rank's share of eps(q) with inertial target y and step-start
-  // positions qt: element terms of its tets plus vertex terms of its owned
-  // vertices (each vertex counted by one rank). No communication.
+  // positions qt: element terms of its tets plus vertex terms (and contact
+  // terms) of its owned vertices (each vertex counted by one rank). No
+  // communication.
   Energy local_energy(const Real* q, const Real* y, const Real* qt) const;
 
   // The first non-finite value of this rank's share of eps(q) (positions,
@@ -147,6 +163,7 @@ class LocalProblem {
   std::vector<std::uint8_t> fixed_;
   std::vector<Real> corner_grad_, corner_diag_;  // 12 per tet
   std::vector<Real> partial_;                    // 3 or 6 per vertex: gradient [, diagonal]
+  std::unique_ptr<ObstacleContact<Real>> contact_;
 };
 
 }  // namespace descent

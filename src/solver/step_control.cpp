@@ -30,6 +30,7 @@ void predict_positions(const SolverSpec& spec, LocalProblem<Real>& problem,
     const Real d = static_cast<Real>(optimized_step_weight(problem, qt, y, hv.data()));
     for (std::size_t k = 0; k < n; ++k) q[k] = qt[k] + d * hv[k];
   }
+  problem.begin_contact_step(state.time, qt, q);
 }
 
 template void predict_positions(const SolverSpec&, LocalProblem<double>&, const BodyState<double>&,

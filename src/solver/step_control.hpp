@@ -37,7 +37,9 @@ Real chebyshev_omega(int since_restart, int delay, Real rho2, Real omega) {
 // guess q (3 reals per local vertex, xyz-interleaved). The caller then puts
 // held axes where their motion says. init = "optimized" (Eq. 10) costs one
 // gradient, one Hessian product and one allreduce. from_start: q = q_t
-// whatever spec.init says (Stepper::guess_next_step_from_start).
+// whatever spec.init says (Stepper::guess_next_step_from_start). With
+// obstacles the guess is then kept outside them
+// (LocalProblem::begin_contact_step).
 template <class Real>
 void predict_positions(const SolverSpec& spec, LocalProblem<Real>& problem,
                        const BodyState<Real>& state, Real* qt, Real* y, Real* q,

@@ -986,5 +986,91 @@ TEST(SceneOverrides, ConflictsAreCheckedAfterMerging) {
              "--set mesh.file=a.msh: mesh.file and mesh.generator exclude each other");
 }
 
+TEST(Scene, ReadsEveryKeyOfTheObstaclesAndContact) {
+  const Scene scene = parse(std::string(kBoxScene) + R"(
+[contact]
+method = "projection"
+distance = 0.002
+stiffness = 1e4
+smoothing_velocity = 0.01
+[[obstacle]]
+kind = "plane"
+point = [0, -1, 0]
+normal = [0, 2, 0]
+friction = 0.4
+[obstacle.motion]
+kind = "translate"
+velocity = [0, 0.5, 0]
+until = 1.5
+[[obstacle]]
+kind = "sphere"
+centre = [1, 2, 3]
+radius = 0.25
+[[obstacle]]
+kind = "box"
+box_min = [-1, -1, -1]
+box_max = [1, 0, 1]
+)");
+  EXPECT_EQ(scene.contact.method, "projection");
+  EXPECT_EQ(scene.contact.distance, 0.002);
+  EXPECT_EQ(scene.contact.stiffness, 1e4);
+  EXPECT_EQ(scene.contact.smoothing_velocity, 0.01);
+  ASSERT_EQ(scene.obstacles.size(), 3u);
+  EXPECT_EQ(scene.obstacles[0].kind, "plane");
+  EXPECT_EQ(scene.obstacles[0].point, (Vec3{0, -1, 0}));
+  EXPECT_EQ(scene.obstacles[0].normal, (Vec3{0, 2, 0}));
+  EXPECT_EQ(scene.obstacles[0].friction, 0.4);
+  EXPECT_EQ(scene.obstacles[0].motion.kind, "translate");
+  EXPECT_EQ(scene.obstacles[0].motion.velocity, (Vec3{0, 0.5, 0}));
+  EXPECT_EQ(scene.obstacles[0].motion.until, 1.5);
+  EXPECT_EQ(scene.obstacles[1].kind, "sphere");
+  EXPECT_EQ(scene.obstacles[1].centre, (Vec3{1, 2, 3}));
+  EXPECT_EQ(scene.obstacles[1].radius, 0.25);
+  EXPECT_EQ(scene.obstacles[1].friction, 0.0);
+  EXPECT_EQ(scene.obstacles[2].box_min, (Vec3{-1, -1, -1}));
+  EXPECT_EQ(scene.obstacles[2].box_max, (Vec3{1, 0, 1}));
+  // Without obstacles the contact defaults stand and nothing is added.
+  const Scene plain = parse(kBoxScene);
+  EXPECT_TRUE(plain.obstacles.empty());
+  EXPECT_EQ(plain.contact.method, "energy");
+  EXPECT_EQ(plain.contact.distance, 0.0);
+}
+
+TEST(Scene, ObstacleErrorsNameTheObstacleAndItsKey) {
+  const std::string scene = std::string(kBoxScene) + "[[obstacle]]\n";
+  expect_has(error_of(scene + "normal = [0, 0, 0]\n"),
+             "scene.toml:4: obstacle.0.normal must not be [0, 0, 0]");
+  expect_has(error_of(scene + "kind = \"cone\"\n"),
+             "scene.toml:4: obstacle.0.kind must be one of \"plane\", \"sphere\", \"box\", got "
+             "\"cone\"");
+  expect_has(error_of(scene + "kind = \"sphere\"\n"), "obstacle.0.radius must be > 0, got 0");
+  expect_has(error_of(scene + "kind = \"sphere\"\nradius = 1\nnormal = [1, 0, 0]\n"),
+             "scene.toml:6: obstacle.0.normal belongs to an obstacle of obstacle.0.kind = "
+             "\"plane\", but this one is \"sphere\"");
+  expect_has(error_of(scene + "kind = \"box\"\nbox_min = [0, 0, 0]\nbox_max = [1, 0, 1]\n"),
+             "obstacle.0.box_max must exceed obstacle.0.box_min along every axis");
+  expect_has(error_of(scene + "friction = -0.1\n"), "obstacle.0.friction must be >= 0");
+  expect_has(error_of(scene + "motion = { kind = \"spin\" }\n"),
+             "obstacle.0.motion.kind must be one of");
+  expect_has(error_of(scene + "radius = 1\n[[obstacle]]\nradis = 2\n"),
+             "unknown key 'obstacle.1.radis' (did you mean 'obstacle.1.radius'?)");
+}
+
+TEST(Scene, ContactErrorsNameTheKey) {
+  const std::string scene = std::string(kBoxScene) + "[[obstacle]]\n";
+  expect_has(error_of(scene + "[contact]\nmethod = \"penalty\"\n"),
+             "contact.method must be one of \"energy\", \"projection\"");
+  expect_has(error_of(scene + "[contact]\ndistance = -1\n"), "contact.distance must be >= 0");
+  expect_has(error_of(scene + "[contact]\nsmoothing_velocity = 0\n"),
+             "contact.smoothing_velocity must be > 0");
+  // The barrier lives in the Chebyshev iteration's energy only (so far).
+  expect_has(error_of(scene + "[solver]\nmethod = \"lbfgs\"\n"),
+             "obstacles with contact.method = \"energy\" need solver.method = chebyshev");
+  EXPECT_NO_THROW(
+      parse(scene + "[contact]\nmethod = \"projection\"\n[solver]\nmethod = \"lbfgs\"\n"));
+  // An override is checked like a file entry.
+  expect_has(error_of(scene, {"obstacle.0.friction=-1"}), "obstacle.0.friction must be >= 0");
+}
+
 }  // namespace
 }  // namespace descent

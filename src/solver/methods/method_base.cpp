@@ -50,6 +50,7 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
   // good state) and the caller stops the run.
   if (!stats.finite) return stats;
 
+  problem_.end_contact_step(q_.data(), qt_.data());
   commit_step(q_.data(), qt_.data(), problem_.dt(), t_next, state);
   stats.alpha = this->memory().alpha;
   if (stats.energy == 0) stats.energy = check_.checked_energy();

@@ -16,6 +16,7 @@
 
 #include "comm/halo.hpp"
 #include "common/error.hpp"
+#include "kernels/contact_loops.hpp"
 #include "kernels/exec_array.hpp"
 #include "kernels/multilevel_loops.hpp"
 #include "solver/local_problem.hpp"
@@ -144,6 +145,14 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
 
   void read_interpolants_from(const Real* interpolants) override {
     interpolant_source_ = interpolants;
+  }
+
+  // The finest operator gains the projected contact Hessian blocks at each
+  // refresh (kernels/contact_loops.hpp): `contact` and the step-start
+  // positions `qt` in this execution's memory, owned by the caller.
+  void use_contact(ContactView<Real> contact, const Real* qt) {
+    contact_ = contact;
+    contact_qt_ = qt;
   }
 
   void refresh(const Real* q) override {
@@ -297,6 +306,9 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
         model_);
     loops::add_vertex_curvature(exec_, kStream, problem_.mesh().num_owned, terms_, mass_.data(),
                                 fixed_.data(), diagonal_slots_.data(), f.values.data());
+    if (contact_.num_owned > 0)
+      loops::add_contact_blocks(exec_, kStream, contact_, fixed_.data(), x, contact_qt_,
+                                diagonal_slots_.data(), f.values.data());
     exec_.sync(kStream);
   }
 
@@ -560,6 +572,8 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
   Array<index_t> tets_, tet_slots_, tet_order_, diagonal_slots_;
   Array<TetRest<Real>> rest_;
   Array<Real> mass_, interpolant_;
+  ContactView<Real> contact_;
+  const Real* contact_qt_ = nullptr;
   const Real* interpolant_source_ = nullptr;
   Array<std::uint8_t> fixed_;
   Array<Real> coarse_stage_;     // a device's coarsest vectors, on the host (pinned)
