@@ -168,9 +168,8 @@ ObstacleContact<Real>::ObstacleContact(const LocalMesh& mesh, const Scene& scene
 template <class Real>
 void ObstacleContact<Real>::begin_step(double t, const Real* qt, Real* q) {
   const std::size_t no = obstacles_.size();
-  std::vector<ObstacleGeometry<Real>>& start = start_;
   for (std::size_t k = 0; k < no; ++k) {
-    start[k] = obstacle_geometry<Real>(obstacles_[k], t);
+    start_[k] = obstacle_geometry<Real>(obstacles_[k], t);
     geometry_[k] = obstacle_geometry<Real>(obstacles_[k], t + static_cast<double>(h_));
   }
   std::fill(projected_.begin(), projected_.end(), 0.0);
@@ -188,12 +187,12 @@ void ObstacleContact<Real>::begin_step(double t, const Real* qt, Real* q) {
     for (std::size_t k = 0; k < no; ++k) {
       FrictionLag<Real>& lag = lags_[no * s + k];
       lag = FrictionLag<Real>{};
-      const Gap<Real> gap = obstacle_gap(start[k], xt);
+      const Gap<Real> gap = obstacle_gap(start_[k], xt);
       if (obstacles_[k].friction <= 0 || !(gap.g > Real(0)) || gap.g >= dh_) continue;
       lag.mu_lambda =
           static_cast<Real>(obstacles_[k].friction) * -kappa_[s] * barrier(gap.g, dh_).first;
       Real moved[3];
-      carried(start[k], geometry_[k], xt, moved);
+      carried(start_[k], geometry_[k], xt, moved);
       for (int i = 0; i < 3; ++i) {
         lag.n[i] = gap.n[i];
         lag.w[i] = moved[i] - xt[i];
@@ -206,9 +205,9 @@ void ObstacleContact<Real>::begin_step(double t, const Real* qt, Real* q) {
   // (cutting each vertex alone crushes the layer that meets an obstacle
   // first), and a body thrown at an obstacle starts the step touching it,
   // inside the barrier's reach, where P^-1 and the spectrum estimate made
-  // at the guess see the barrier. Vertices an
-  // obstacle has moved onto are pushed out along its normal, to half the
-  // activation distance (a few passes settle corners).
+  // at the guess see the barrier. Vertices an obstacle has moved onto are
+  // pushed out along its normal, to half the activation distance (a few
+  // passes settle corners).
   Real least_scale = 1;
   std::vector<std::uint8_t> inside(vertices_.size(), 0);
   for (index_t s = 0; s < ns; ++s) {
@@ -244,7 +243,7 @@ template <class Real>
 void ObstacleContact<Real>::project(Real* q, const Real* qt) {
   if (energy_) return;
   const std::size_t no = obstacles_.size();
-  const double t_end_over_h2 = 1.0 / (static_cast<double>(h_) * static_cast<double>(h_));
+  const double inv_h2 = 1.0 / (static_cast<double>(h_) * static_cast<double>(h_));
   for (std::size_t s = 0; s < vertices_.size(); ++s) {
     const std::size_t v = static_cast<std::size_t>(vertices_[s]);
     const bool owned = s < static_cast<std::size_t>(num_owned_);
@@ -276,8 +275,7 @@ void ObstacleContact<Real>::project(Real* q, const Real* qt) {
       if (!owned) continue;
       double* sums = &projected_[4 * k];
       for (int i = 0; i < 3; ++i)
-        sums[i] -=
-            static_cast<double>(mass_[s]) * static_cast<double>(x[i] - before[i]) * t_end_over_h2;
+        sums[i] -= static_cast<double>(mass_[s]) * static_cast<double>(x[i] - before[i]) * inv_h2;
       sums[3] += 1;
       projected_depth_ = std::max(projected_depth_, static_cast<double>(depth));
     }

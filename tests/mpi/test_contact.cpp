@@ -201,6 +201,17 @@ TEST(Contact, ProjectionKeepsEveryStepsResultOutside) {
   EXPECT_NEAR(-measured(sim, "obstacle0_force_y"), weight, 0.05 * weight);
 }
 
+// The message of the InputError that setting up `scene` throws.
+std::string set_up_error(const Scene& scene, const Mesh& mesh) {
+  try {
+    Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no error";
+  return "";
+}
+
 TEST(Contact, AnObstacleThatCutsTheBodyIsAnErrorNamingIt) {
   Scene scene = box_on_floor(0.01, 0.0);
   Obstacle ball;
@@ -209,25 +220,15 @@ TEST(Contact, AnObstacleThatCutsTheBodyIsAnErrorNamingIt) {
   ball.radius = 0.03;
   scene.obstacles.push_back(ball);
   const Mesh mesh = build_scene_mesh(scene.mesh);
-  try {
-    Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
-    ADD_FAILURE() << "no error";
-  } catch (const InputError& error) {
-    const std::string message = error.what();
-    EXPECT_NE(message.find("obstacle.1 (sphere) cuts the body at its start"), std::string::npos)
-        << message;
-  }
+  std::string message = set_up_error(scene, mesh);
+  EXPECT_NE(message.find("obstacle.1 (sphere) cuts the body at its start"), std::string::npos)
+      << message;
   // Touching is cutting for the barrier, which is infinite at a zero gap.
   scene.obstacles.pop_back();
   scene.obstacles[0].point = {0.0, 0.01, 0.0};
-  try {
-    Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
-    ADD_FAILURE() << "no error";
-  } catch (const InputError& error) {
-    const std::string message = error.what();
-    EXPECT_NE(message.find("obstacle.0 (plane) touches the body at its start"), std::string::npos)
-        << message;
-  }
+  message = set_up_error(scene, mesh);
+  EXPECT_NE(message.find("obstacle.0 (plane) touches the body at its start"), std::string::npos)
+      << message;
 }
 
 }  // namespace
