@@ -47,12 +47,12 @@ int write_scene_mesh(MPI_Comm comm, const Scene& scene, const std::string& path)
   MPI_Comm_rank(comm, &rank);
   global_index_t counts[2] = {0, 0};
   if (is_hdf5_mesh_path(path)) {
-    const MeshSlice slice = build_scene_mesh_slice(comm, scene.mesh);
+    const MeshSlice slice = build_scene_mesh_slice(comm, scene);
     write_mesh_h5(comm, slice, path);
     counts[0] = slice.num_global_vertices;
     counts[1] = slice.num_global_tets;
   } else if (rank == 0) {
-    const Mesh m = build_scene_mesh(scene.mesh);
+    const Mesh m = build_scene_mesh(scene);
     write_mesh(m, path);
     counts[0] = m.num_vertices();
     counts[1] = m.num_tets();

@@ -5,6 +5,7 @@
 #include "app/agree.hpp"
 #include "app/console.hpp"
 #include "app/scene_mesh.hpp"
+#include "common/error.hpp"
 #include "partition/partition_file.hpp"
 
 namespace descent {
@@ -23,6 +24,10 @@ DistributedMesh set_up_mesh(MPI_Comm comm, const Scene& scene, const MeshSetupOp
   const auto start = std::chrono::steady_clock::now();
   DistributedMesh mesh;
   double read_seconds = 0;
+  if (!options.partition_file.empty() && !scene.bodies.empty())
+    throw InputError(detail::concat(options.partition_file, ": ", scene.source,
+                                    " has several bodies ([[body]]), which a partition file does "
+                                    "not record: run it without --partition"));
   if (!options.partition_file.empty()) {
     PartitionPiece piece =
         agree(comm, [&] { return read_partition_piece(comm, options.partition_file); });
@@ -31,8 +36,7 @@ DistributedMesh set_up_mesh(MPI_Comm comm, const Scene& scene, const MeshSetupOp
                  [&] { return distribute_piece(comm, std::move(piece), options.partition_file); });
   } else {
     MeshReadReport report;
-    MeshSlice slice =
-        agree(comm, [&] { return build_scene_mesh_slice(comm, scene.mesh, &report); });
+    MeshSlice slice = agree(comm, [&] { return build_scene_mesh_slice(comm, scene, &report); });
     if (rank == 0)
       for (const std::string& w : report.warnings) warn("%s", w.c_str());
     read_seconds = seconds_since(start);

@@ -49,8 +49,14 @@ int run_partition(MPI_Comm comm, const Scene& scene, const PartitionOptions& opt
   const int parts = options.parts;
   const auto start = std::chrono::steady_clock::now();
 
+  if (!scene.bodies.empty() && !options.out_file.empty())
+    throw InputError(
+        detail::concat(scene.source,
+                       ": a scene of several bodies ([[body]]) is partitioned inside each run: a "
+                       "partition file does not record its bodies (drop --output to see the "
+                       "partition's quality)"));
   MeshReadReport report;
-  MeshSlice slice = agree(comm, [&] { return build_scene_mesh_slice(comm, scene.mesh, &report); });
+  MeshSlice slice = agree(comm, [&] { return build_scene_mesh_slice(comm, scene, &report); });
   if (rank == 0)
     for (const std::string& w : report.warnings) warn("%s", w.c_str());
   const PartitionMethod method = agree(

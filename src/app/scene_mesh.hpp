@@ -1,5 +1,6 @@
 #pragma once
-// The mesh a scene asks for: generated, or read from a file and scaled.
+// The mesh a scene asks for: generated, or read from a file and scaled; or
+// its bodies ([[body]]) placed and joined into one mesh.
 #include <mpi.h>
 
 #include "common/mesh.hpp"
@@ -17,6 +18,17 @@ Mesh build_scene_mesh(const MeshSpec& spec, MeshReadReport* report = nullptr);
 // the other formats are parsed on rank 0 and its blocks sent out. `report`
 // gets the reader's warnings on rank 0.
 MeshSlice build_scene_mesh_slice(MPI_Comm comm, const MeshSpec& spec,
+                                 MeshReadReport* report = nullptr);
+
+// The scene's mesh: [mesh]'s, or its bodies each built, placed (Body's
+// scale, rotation and translation about its rest centroid) and appended in
+// order, with Mesh::body_vertex_offsets, after checking that no two overlap
+// (contact/body_overlap.hpp). On the calling rank alone.
+Mesh build_scene_mesh(const Scene& scene, MeshReadReport* report = nullptr);
+
+// Collective: this rank's slice of it. The bodies are built on rank 0 and
+// scattered (a scene of several bodies is made of meshes one rank can hold).
+MeshSlice build_scene_mesh_slice(MPI_Comm comm, const Scene& scene,
                                  MeshReadReport* report = nullptr);
 
 }  // namespace descent

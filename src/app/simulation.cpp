@@ -14,7 +14,7 @@ bool scene_needs_measurements(const Scene& scene) {
   bool moving = false;
   for (const FixedRegion& region : scene.fixed) moving = moving || region.motion.kind != "none";
   return moving || !scene.loads.empty() || scene.time.quasistatic ||
-         scene.material.conversion.enabled || !scene.obstacles.empty();
+         scene.material.conversion.enabled || !scene.obstacles.empty() || !scene.bodies.empty();
 }
 
 std::vector<std::string> scene_measurement_names(const Scene& scene) {
@@ -35,7 +35,63 @@ std::vector<std::string> scene_measurement_names(const Scene& scene) {
     names.push_back(detail::concat("obstacle", k, "_contacts"));
   }
   if (!scene.obstacles.empty()) names.push_back("contact_penetration");
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    for (const char* a : xyz) names.push_back(detail::concat("body", b, "_com_", a));
+    for (const char* a : xyz) names.push_back(detail::concat("body", b, "_velocity_", a));
+    for (const char* a : xyz) names.push_back(detail::concat("body", b, "_momentum_", a));
+    names.push_back(detail::concat("body", b, "_kinetic"));
+  }
   return names;
+}
+
+// Per body, sums over this rank's owned vertices of q and v: [m, m x (3),
+// m v (3), m |v|^2 / 2] (kBodySums each).
+constexpr int kBodySums = 8;
+
+template <class Real>
+std::vector<double> local_body_sums(const LocalMesh& mesh, const std::vector<int>& body,
+                                    const std::vector<Real>& mass, const Real* q, const Real* v) {
+  std::vector<double> sums(kBodySums * static_cast<std::size_t>(mesh.num_bodies()), 0.0);
+  for (index_t i = 0; i < mesh.num_owned; ++i) {
+    double* s = &sums[kBodySums * static_cast<std::size_t>(body[i])];
+    const double m = mass[i];
+    s[0] += m;
+    for (int d = 0; d < 3; ++d) {
+      s[1 + d] += m * q[3 * i + d];
+      s[4 + d] += m * v[3 * i + d];
+      s[7] += 0.5 * m * v[3 * i + d] * v[3 * i + d];
+    }
+  }
+  return sums;
+}
+
+// Each body's initial rigid velocity v = velocity + angular_velocity x
+// (x - c), c its centre of mass (one allreduce); held axes stay at rest.
+template <class Real>
+void set_body_velocities(const Scene& scene, const LocalMesh& mesh,
+                         const LocalProblem<Real>& problem, EnergyReduction& reduction,
+                         BodyState<Real>& state) {
+  if (scene.bodies.empty()) return;
+  const std::vector<int> body = vertex_bodies(mesh);
+  std::vector<double> sums =
+      local_body_sums(mesh, body, problem.mass(), state.q.data(), state.v.data());
+  reduction.sum_in_place(sums);
+  const std::vector<std::uint8_t>& held = problem.fixed_axes();
+  for (index_t i = 0; i < mesh.num_vertices(); ++i) {
+    const Body& b = scene.bodies[body[i]];
+    const double* s = &sums[kBodySums * static_cast<std::size_t>(body[i])];
+    double r[3];
+    for (int d = 0; d < 3; ++d) r[d] = static_cast<double>(state.q[3 * i + d]) - s[1 + d] / s[0];
+    const auto& w = b.angular_velocity;
+    const double spin[3] = {w[1] * r[2] - w[2] * r[1], w[2] * r[0] - w[0] * r[2],
+                            w[0] * r[1] - w[1] * r[0]};
+    for (int d = 0; d < 3; ++d) {
+      const Real velocity =
+          (held[i] & (1u << d)) ? Real(0) : static_cast<Real>(b.velocity[d] + spin[d]);
+      state.v[3 * i + d] = velocity;
+      state.v_prev[3 * i + d] = velocity;
+    }
+  }
 }
 
 }  // namespace
@@ -53,7 +109,9 @@ Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, DistributedMesh 
       reduction_(comm),
       problem_(local_, scene, halo_, reduction_),
       solver_(make_backend_stepper(problem_, halo_, scene.solver, backend)),
-      state_(rest_state<Real>(local_)) {}
+      state_(rest_state<Real>(local_)) {
+  set_body_velocities(scene_, local_, problem_, reduction_, state_);
+}
 
 template <class Real>
 Simulation<Real>::Simulation(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
@@ -167,6 +225,12 @@ std::vector<double> Simulation<Real>::measure() {
     const std::vector<double> c = contact->local_sums(state_.q.data());
     sums.insert(sums.end(), c.begin(), c.end());
   }
+  const std::size_t bodies_at = sums.size();
+  if (!scene_.bodies.empty()) {
+    const std::vector<double> b = local_body_sums(local_, vertex_bodies(local_), problem_.mass(),
+                                                  state_.q.data(), state_.v.data());
+    sums.insert(sums.end(), b.begin(), b.end());
+  }
   reduction_.sum_in_place(sums);
   // Sums -> means and totals, in the order of measurement_names_.
   std::vector<double> values;
@@ -184,8 +248,15 @@ std::vector<double> Simulation<Real>::measure() {
   }
   if (scene_.material.conversion.enabled) values.push_back(sums[contact_at - 1]);
   if (contact) {
-    values.insert(values.end(), sums.begin() + contact_at, sums.end());
+    values.insert(values.end(), sums.begin() + contact_at, sums.begin() + bodies_at);
     values.push_back(reduction_.max_of(contact->local_penetration(state_.q.data())));
+  }
+  for (std::size_t b = 0; b < scene_.bodies.size(); ++b) {
+    const double* s = &sums[bodies_at + kBodySums * b];
+    for (int d = 0; d < 3; ++d) values.push_back(s[1 + d] / s[0]);  // centre of mass
+    for (int d = 0; d < 3; ++d) values.push_back(s[4 + d] / s[0]);  // its velocity
+    for (int d = 0; d < 3; ++d) values.push_back(s[4 + d]);         // momentum
+    values.push_back(s[7]);
   }
   return values;
 }

@@ -24,6 +24,10 @@ struct Mesh {
   std::vector<double> positions;
   std::vector<index_t> tets;
   std::string source;  // file name or generator description, for messages
+  // A scene of several bodies ([[body]]): body b's vertices are
+  // [body_vertex_offsets[b], body_vertex_offsets[b + 1]) (its tets use only
+  // those); empty for a mesh that is one body.
+  std::vector<global_index_t> body_vertex_offsets;
 
   index_t num_vertices() const { return static_cast<index_t>(positions.size() / 3); }
   index_t num_tets() const { return static_cast<index_t>(tets.size() / 4); }

@@ -24,6 +24,7 @@ struct MeshSlice {
   std::vector<global_index_t> tets;
   global_index_t first_vertex = 0;
   std::vector<double> positions;
+  std::vector<global_index_t> body_vertex_offsets;  // as Mesh's, whole on every rank
 
   index_t num_tets() const { return static_cast<index_t>(tets.size() / 4); }
   index_t num_vertices() const { return static_cast<index_t>(positions.size() / 3); }
@@ -35,6 +36,7 @@ inline MeshSlice slice_of(const Mesh& mesh, int rank, int size) {
   const BlockRange tets(mesh.num_tets(), size), vertices(mesh.num_vertices(), size);
   MeshSlice slice;
   slice.source = mesh.source;
+  slice.body_vertex_offsets = mesh.body_vertex_offsets;
   slice.num_global_vertices = mesh.num_vertices();
   slice.num_global_tets = mesh.num_tets();
   slice.first_tet = tets.begin(rank);

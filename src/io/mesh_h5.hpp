@@ -17,6 +17,7 @@
 // meet their vertices. Messages name the file, the dataset and the row.
 #include <mpi.h>
 
+#include <functional>
 #include <string>
 
 #include "common/mesh_slice.hpp"
@@ -44,6 +45,14 @@ MeshSlice read_mesh_h5(MPI_Comm comm, const std::string& path);
 // rank with rank 0's message. `report`, when not null, is reset on every rank
 // and receives rank 0's reader warnings there.
 MeshSlice read_mesh_slice(MPI_Comm comm, const std::string& path, MeshReadReport* report);
+
+// Collective: a whole mesh that rank 0 alone makes (`make_on_rank0`, called
+// there only: a serial reader, the bodies of a scene) as this rank's slice,
+// scattered as read_mesh_slice scatters an ASCII file, with its body offsets
+// sent to every rank. What make_on_rank0 throws is thrown on every rank
+// (an InputError as one; anything else as an Error prefixed with `source`).
+MeshSlice scatter_mesh_from_rank0(MPI_Comm comm, const std::function<Mesh()>& make_on_rank0,
+                                  const std::string& source);
 
 // Whether `path` names an HDF5 mesh (.h5 or .hdf5, any case).
 bool is_hdf5_mesh_path(const std::string& path);

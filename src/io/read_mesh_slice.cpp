@@ -5,6 +5,7 @@
 #include <mpi.h>
 
 #include <exception>
+#include <functional>
 #include <vector>
 
 #include "comm/collective_error.hpp"
@@ -39,7 +40,10 @@ std::vector<T> scatter_rows(MPI_Comm comm, const std::vector<T>& all, int cols,
   return mine;
 }
 
-MeshSlice scatter_serial_read(MPI_Comm comm, const std::string& path, MeshReadReport* report) {
+}  // namespace
+
+MeshSlice scatter_mesh_from_rank0(MPI_Comm comm, const std::function<Mesh()>& make_on_rank0,
+                                  const std::string& source) {
   int rank = 0, size = 0;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -48,33 +52,35 @@ MeshSlice scatter_serial_read(MPI_Comm comm, const std::string& path, MeshReadRe
   std::string input_error, other_error;
   if (rank == 0) {
     try {
-      mesh = read_mesh(path, report);
+      mesh = make_on_rank0();
     } catch (const InputError& error) {
       input_error = error.what();
     } catch (const std::exception& error) {
-      other_error = detail::concat(path, ": ", error.what());
+      other_error = detail::concat(source, ": ", error.what());
     }
   }
   throw_if_rank0_failed<InputError>(comm, input_error);
   throw_if_rank0_failed<Error>(comm, other_error);
 
-  global_index_t totals[2] = {mesh.num_tets(), mesh.num_vertices()};
-  MPI_Bcast(totals, 2, MPI_INT64_T, 0, comm);
+  global_index_t totals[3] = {mesh.num_tets(), mesh.num_vertices(),
+                              static_cast<global_index_t>(mesh.body_vertex_offsets.size())};
+  MPI_Bcast(totals, 3, MPI_INT64_T, 0, comm);
   const BlockRange tet_blocks(totals[0], size), vertex_blocks(totals[1], size);
   MeshSlice slice;
-  slice.source = path;
+  slice.source = source;
   slice.num_global_tets = totals[0];
   slice.num_global_vertices = totals[1];
   slice.first_tet = tet_blocks.begin(rank);
   slice.first_vertex = vertex_blocks.begin(rank);
+  slice.body_vertex_offsets = std::move(mesh.body_vertex_offsets);
+  slice.body_vertex_offsets.resize(totals[2]);
+  MPI_Bcast(slice.body_vertex_offsets.data(), static_cast<int>(totals[2]), MPI_INT64_T, 0, comm);
   const std::vector<index_t> tets = scatter_rows(comm, mesh.tets, 4, tet_blocks, MPI_INT32_T);
   slice.positions = scatter_rows(comm, mesh.positions, 3, vertex_blocks, MPI_DOUBLE);
   mesh = Mesh{};  // frees rank 0's whole copy before the slice grows to 64-bit ids
   slice.tets.assign(tets.begin(), tets.end());
   return slice;
 }
-
-}  // namespace
 
 bool is_hdf5_mesh_path(const std::string& path) {
   const std::string extension = mesh_io_detail::lowercase_extension(path);
@@ -84,7 +90,8 @@ bool is_hdf5_mesh_path(const std::string& path) {
 MeshSlice read_mesh_slice(MPI_Comm comm, const std::string& path, MeshReadReport* report) {
   if (report) *report = MeshReadReport{};
   if (is_hdf5_mesh_path(path)) return read_mesh_h5(comm, path);
-  return scatter_serial_read(comm, path, report);
+  return scatter_mesh_from_rank0(
+      comm, [&] { return read_mesh(path, report); }, path);
 }
 
 }  // namespace descent

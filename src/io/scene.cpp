@@ -43,12 +43,13 @@ SceneDocument parse_document(std::string_view text, const std::string& source) {
   }
 }
 
-// A relative mesh.file written in a scene file means "next to the scene", so
+// A relative mesh.file (or body file) written in a scene file means "next to the scene", so
 // a scene runs from any directory; one given with --set is relative to where
 // the user typed it, like any other path on a command line.
+// `key` is where the scene sets it: "mesh.file", "body.2.file".
 void resolve_mesh_file(const SceneDocument& doc, const std::filesystem::path& scene_dir,
-                       MeshSpec& mesh) {
-  const toml::node* file = doc.find("mesh.file");
+                       const std::string& key, MeshSpec& mesh) {
+  const toml::node* file = doc.find(key);
   if (!file || !doc.from_scene_file(*file)) return;
   const std::filesystem::path path(mesh.file);
   if (path.is_relative()) mesh.file = (scene_dir / path).lexically_normal().string();
@@ -64,7 +65,10 @@ Scene read_scene(SceneDocument doc, const std::vector<std::string>& overrides,
   apply_helix_preset(doc, fields);
   resolve_chebyshev_parameters(doc, fields.scene.solver);
   check_scene_values(doc, fields.scene);
-  resolve_mesh_file(doc, scene_dir, fields.scene.mesh);
+  resolve_mesh_file(doc, scene_dir, "mesh.file", fields.scene.mesh);
+  std::vector<Body>& bodies = fields.scene.bodies;
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    resolve_mesh_file(doc, scene_dir, detail::concat("body.", i, ".file"), bodies[i].mesh);
   fields.scene.source = doc.source;
   return std::move(fields.scene);
 }

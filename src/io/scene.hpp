@@ -20,6 +20,28 @@ struct MeshSpec {
   BoxParams box;
 };
 
+// One body of a scene with several ([[body]]): its mesh, placed by `scale`,
+// then a rotation of `rotate_degrees` about `rotate_axis`, both about the
+// body's rest centroid c (its centre of volume), then `translate`:
+//   x = c + translate + Rot(axis, degrees) (scale (X - c)).
+// It starts with the rigid velocity v(x) = velocity + angular_velocity x
+// (x - c'), c' its placed centroid. `young` and `density` (0: [material]'s)
+// override the scene's: young scales every modulus of the model (the whole
+// energy density) by young / material.young; the model and the Poisson ratio
+// are the scene's.
+struct Body {
+  MeshSpec mesh;             // file or generator (mesh.scale stays 1: `scale` is about c)
+  std::string helix_preset;  // generator.helix.preset: a named resolution
+  double scale = 1.0;
+  std::array<double, 3> rotate_axis{0.0, 1.0, 0.0};
+  double rotate_degrees = 0;
+  std::array<double, 3> translate{};         // m
+  std::array<double, 3> velocity{};          // m/s
+  std::array<double, 3> angular_velocity{};  // rad/s, about c' (right-handed)
+  double young = 0;                          // Pa
+  double density = 0;                        // kg/m^3
+};
+
 // Invertible model conversion (paper 1, Eqs. 17-19): per element an
 // interpolant l in [0, 1] toward the `arap` energy, driven by the smallest
 // signed singular value of F between lambda_minus and lambda_plus, decaying
@@ -239,8 +261,9 @@ struct OutputSpec {
 };
 
 struct Scene {
-  std::string source;  // file the scene was read from, for messages
-  MeshSpec mesh;
+  std::string source;        // file the scene was read from, for messages
+  MeshSpec mesh;             // the one body of a scene without [[body]]
+  std::vector<Body> bodies;  // [[body]]: several bodies, one mesh (no [mesh])
   MaterialSpec material;
   std::array<double, 3> gravity{0.0, -9.81, 0.0};
   std::vector<FixedRegion> fixed;

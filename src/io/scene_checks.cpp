@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "common/error.hpp"
 
@@ -67,6 +68,107 @@ void check_motion(const SceneDocument& doc, const Motion& motion, const std::str
   require(doc, motion.until >= 0, prefix + "until", ">= 0", motion.until);
 }
 
+// The generator keys of a mesh source, by their names in the scene: [mesh]'s
+// ("mesh.generator", "mesh.helix", ...) or a [[body]]'s ("body.0.generator.kind",
+// "body.0.generator.helix", ...).
+struct MeshKeys {
+  std::string owner;      // what needs the mesh: "the scene", "body.0"
+  std::string table;      // "mesh", "body.0"
+  std::string file;       // "mesh.file"
+  std::string generator;  // "mesh.generator"
+  std::string helix;      // "mesh.helix": its keys are helix + ".resolution", ...
+  std::string box;        // "mesh.box"
+};
+
+MeshKeys scene_mesh_keys() {
+  return {"the scene", "mesh", "mesh.file", "mesh.generator", "mesh.helix", "mesh.box"};
+}
+
+// `body` names the table: "body.0".
+MeshKeys body_mesh_keys(const std::string& body) {
+  return {body,
+          body,
+          body + ".file",
+          body + ".generator.kind",
+          body + ".generator.helix",
+          body + ".generator.box"};
+}
+
+void check_helix(const SceneDocument& doc, const DoubleHelixParams& helix, const MeshKeys& keys) {
+  const std::string at = keys.helix + ".";
+  require(doc, helix.resolution > 0, at + "resolution", "> 0", helix.resolution);
+  require(doc, helix.helix_radius > 0, at + "helix_radius", "> 0", helix.helix_radius);
+  require(doc, helix.tube_radius > 0, at + "tube_radius", "> 0", helix.tube_radius);
+  require(doc, helix.pitch > 0, at + "pitch", "> 0", helix.pitch);
+  require(doc, helix.turns > 0, at + "turns", "> 0", helix.turns);
+}
+
+void check_box(const SceneDocument& doc, const BoxParams& box, const MeshKeys& keys) {
+  const std::string at = keys.box + ".";
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    require(doc, box.cells[axis] >= 1, at + "cells", "at least 1 along each axis", box.cells[axis]);
+    require(doc, box.size[axis] > 0, at + "size", "> 0 along each axis", box.size[axis]);
+  }
+  require(doc, box.tets_per_cell == 5 || box.tets_per_cell == 6, at + "tets_per_cell", "5 or 6",
+          box.tets_per_cell);
+}
+
+void check_generator_values(const SceneDocument& doc, const MeshSpec& mesh, const MeshKeys& keys) {
+  if (mesh.generator == "double_helix") check_helix(doc, mesh.helix, keys);
+  if (mesh.generator == "box") check_box(doc, mesh.box, keys);
+}
+
+// Exactly one of file and generator, a known generator, and the parameter
+// table of that generator only.
+void check_mesh_keys(const SceneDocument& doc, const MeshSpec& mesh, const MeshKeys& keys) {
+  const bool has_generator = doc.has(keys.generator);
+  const bool has_file = doc.has(keys.file);
+  if (!has_generator && !has_file) {
+    throw InputError(detail::concat(doc.where(keys.table), ": ", keys.owner, " needs a mesh: set ",
+                                    keys.generator, " (\"double_helix\" or \"box\") or ",
+                                    keys.file));
+  }
+  if (has_generator && has_file) {
+    throw InputError(detail::concat(doc.where(keys.file), ": ", keys.file, " and ", keys.generator,
+                                    " exclude each other (", doc.where(keys.generator), " sets ",
+                                    keys.generator, ")"));
+  }
+  if (has_file && mesh.file.empty()) {
+    throw InputError(detail::concat(doc.where(keys.file), ": ", keys.file, " must not be empty"));
+  }
+  if (has_generator) require_one_of(doc, keys.generator, mesh.generator, {"double_helix", "box"});
+  // A parameter table of the other generator would be silently ignored.
+  const std::string mesh_from =
+      has_file ? detail::concat("the mesh is read from ", keys.file)
+               : detail::concat(keys.generator, " is \"", mesh.generator, "\"");
+  if (doc.has(keys.helix) && mesh.generator != "double_helix") {
+    throw InputError(detail::concat(doc.where(keys.helix), ": ", keys.helix, " goes with ",
+                                    keys.generator, " = \"double_helix\", but ", mesh_from));
+  }
+  if (doc.has(keys.box) && mesh.generator != "box") {
+    throw InputError(detail::concat(doc.where(keys.box), ": ", keys.box, " goes with ",
+                                    keys.generator, " = \"box\", but ", mesh_from));
+  }
+}
+
+// A preset (which conflicts with the resolution) sets the helix resolution.
+void apply_preset(const SceneDocument& doc, const MeshKeys& keys, const std::string& preset,
+                  DoubleHelixParams& helix) {
+  const std::string preset_key = keys.helix + ".preset";
+  const std::string resolution_key = keys.helix + ".resolution";
+  if (!doc.has(preset_key)) return;
+  if (doc.has(resolution_key)) {
+    throw InputError(detail::concat(doc.where(resolution_key), ": ", resolution_key, " and ",
+                                    preset_key,
+                                    " exclude each other (a preset is a named resolution)"));
+  }
+  try {
+    helix.resolution = double_helix_preset_resolution(preset);
+  } catch (const InputError& error) {
+    throw InputError(detail::concat(doc.where(preset_key), ": ", preset_key, ": ", error.what()));
+  }
+}
+
 // A [[fixed]] table; `prefix` names it ("fixed.0.").
 void check_entry(const SceneDocument& doc, const FixedRegion& region, const std::string& prefix) {
   if (!is_axis_set(region.axes)) {
@@ -120,6 +222,24 @@ void check_entry(const SceneDocument& doc, const Obstacle& obstacle, const std::
   }
   require(doc, obstacle.friction >= 0, prefix + "friction", ">= 0", obstacle.friction);
   check_motion(doc, obstacle.motion, prefix + "motion.");
+}
+
+// A [[body]] table; `prefix` names it ("body.0."). Its mesh source was
+// checked by check_mesh_source.
+void check_entry(const SceneDocument& doc, const Body& body, const std::string& prefix) {
+  check_generator_values(doc, body.mesh, body_mesh_keys(prefix.substr(0, prefix.size() - 1)));
+  require(doc, body.scale > 0, prefix + "scale", "> 0", body.scale);
+  if (body.rotate_degrees != 0 && body.rotate_axis == std::array<double, 3>{}) {
+    const std::string key = prefix + "rotate.axis";
+    throw InputError(detail::concat(doc.where(key), ": ", key, " must not be [0, 0, 0] when ",
+                                    prefix, "rotate.degrees is not 0"));
+  }
+  // 0 is the default (the scene's value); written in the scene, it must be a
+  // material's.
+  if (doc.has(prefix + "material.young"))
+    require(doc, body.young > 0, prefix + "material.young", "> 0", body.young);
+  if (doc.has(prefix + "material.density"))
+    require(doc, body.density > 0, prefix + "material.density", "> 0", body.density);
 }
 
 void check_contact(const SceneDocument& doc, const Scene& scene) {
@@ -188,24 +308,6 @@ void check_material(const SceneDocument& doc, const MaterialSpec& material) {
   check_model_parameter(doc, "material.c2", material.c2, material.model, {"mooney_rivlin", "fung"});
   check_model_parameter(doc, "material.c3", material.c3, material.model, {"fung"});
   check_conversion(doc, material.conversion);
-}
-
-void check_helix(const SceneDocument& doc, const DoubleHelixParams& helix) {
-  require(doc, helix.resolution > 0, "mesh.helix.resolution", "> 0", helix.resolution);
-  require(doc, helix.helix_radius > 0, "mesh.helix.helix_radius", "> 0", helix.helix_radius);
-  require(doc, helix.tube_radius > 0, "mesh.helix.tube_radius", "> 0", helix.tube_radius);
-  require(doc, helix.pitch > 0, "mesh.helix.pitch", "> 0", helix.pitch);
-  require(doc, helix.turns > 0, "mesh.helix.turns", "> 0", helix.turns);
-}
-
-void check_box(const SceneDocument& doc, const BoxParams& box) {
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    require(doc, box.cells[axis] >= 1, "mesh.box.cells", "at least 1 along each axis",
-            box.cells[axis]);
-    require(doc, box.size[axis] > 0, "mesh.box.size", "> 0 along each axis", box.size[axis]);
-  }
-  require(doc, box.tets_per_cell == 5 || box.tets_per_cell == 6, "mesh.box.tets_per_cell", "5 or 6",
-          box.tets_per_cell);
 }
 
 // solver.preconditioner and the multilevel hierarchy's keys. Only the
@@ -284,54 +386,25 @@ void check_linear_cg(const SceneDocument& doc, const Scene& scene) {
 }  // namespace
 
 void check_mesh_source(const SceneDocument& doc, const Scene& scene) {
-  const bool has_generator = doc.has("mesh.generator");
-  const bool has_file = doc.has("mesh.file");
-  if (!has_generator && !has_file) {
-    throw InputError(
-        detail::concat(doc.where("mesh"),
-                       ": the scene needs a mesh: set mesh.generator (\"double_helix\" or "
-                       "\"box\") or mesh.file"));
+  if (scene.bodies.empty()) {
+    check_mesh_keys(doc, scene.mesh, scene_mesh_keys());
+    return;
   }
-  if (has_generator && has_file) {
-    throw InputError(detail::concat(doc.where("mesh.file"),
-                                    ": mesh.file and mesh.generator exclude each other (",
-                                    doc.where("mesh.generator"), " sets mesh.generator)"));
-  }
-  if (has_file && scene.mesh.file.empty()) {
-    throw InputError(detail::concat(doc.where("mesh.file"), ": mesh.file must not be empty"));
-  }
-  if (has_generator) {
-    require_one_of(doc, "mesh.generator", scene.mesh.generator, {"double_helix", "box"});
-  }
-  // A parameter table of the other generator would be silently ignored.
-  const std::string& generator = scene.mesh.generator;
-  const std::string mesh_from = has_file ? std::string("the mesh is read from mesh.file")
-                                         : "mesh.generator is \"" + generator + "\"";
-  if (doc.has("mesh.helix") && generator != "double_helix") {
-    throw InputError(detail::concat(doc.where("mesh.helix"),
-                                    ": mesh.helix goes with mesh.generator = \"double_helix\", "
-                                    "but ",
-                                    mesh_from));
-  }
-  if (doc.has("mesh.box") && generator != "box") {
-    throw InputError(detail::concat(
-        doc.where("mesh.box"), ": mesh.box goes with mesh.generator = \"box\", but ", mesh_from));
-  }
+  if (doc.has("mesh"))
+    throw InputError(detail::concat(doc.where("mesh"),
+                                    ": [mesh] and [[body]] exclude each other: each body names "
+                                    "its own mesh (",
+                                    doc.where("body.0"), " starts body.0)"));
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+    check_mesh_keys(doc, scene.bodies[i].mesh, body_mesh_keys(detail::concat("body.", i)));
 }
 
 void apply_helix_preset(const SceneDocument& doc, SceneFields& fields) {
-  if (!doc.has("mesh.helix.preset")) return;
-  if (doc.has("mesh.helix.resolution")) {
-    throw InputError(detail::concat(doc.where("mesh.helix.resolution"),
-                                    ": mesh.helix.resolution and mesh.helix.preset exclude each "
-                                    "other (a preset is a named resolution)"));
-  }
-  try {
-    fields.scene.mesh.helix.resolution = double_helix_preset_resolution(fields.helix_preset);
-  } catch (const InputError& error) {
-    throw InputError(
-        detail::concat(doc.where("mesh.helix.preset"), ": mesh.helix.preset: ", error.what()));
-  }
+  apply_preset(doc, scene_mesh_keys(), fields.helix_preset, fields.scene.mesh.helix);
+  std::vector<Body>& bodies = fields.scene.bodies;
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    apply_preset(doc, body_mesh_keys(detail::concat("body.", i)), bodies[i].helix_preset,
+                 bodies[i].mesh.helix);
 }
 
 void resolve_chebyshev_parameters(const SceneDocument& doc, SolverSpec& solver) {
@@ -365,8 +438,7 @@ void resolve_chebyshev_parameters(const SceneDocument& doc, SolverSpec& solver) 
 
 void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require(doc, scene.mesh.scale > 0, "mesh.scale", "> 0", scene.mesh.scale);
-  if (scene.mesh.generator == "double_helix") check_helix(doc, scene.mesh.helix);
-  if (scene.mesh.generator == "box") check_box(doc, scene.mesh.box);
+  check_generator_values(doc, scene.mesh, scene_mesh_keys());
 
   check_material(doc, scene.material);
 

@@ -8,11 +8,12 @@
 namespace descent {
 
 // Exactly one of mesh.generator / mesh.file, a known generator, and the
-// parameter table ([mesh.helix], [mesh.box]) of that generator only.
+// parameter table ([mesh.helix], [mesh.box]) of that generator only; the
+// same for each [[body]] (file / generator.kind), which excludes [mesh].
 void check_mesh_source(const SceneDocument& doc, const Scene& scene);
 
 // mesh.helix.preset (which conflicts with mesh.helix.resolution) sets the
-// helix resolution.
+// helix resolution; each body's generator.helix.preset likewise.
 void apply_helix_preset(const SceneDocument& doc, SceneFields& fields);
 
 // solver.chebyshev_parameters from the keys the scene sets: "fixed" when it

@@ -106,7 +106,7 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("output.checkpoint_every", scene.output.checkpoint_every);
 }
 
-// The scene's arrays of tables ([[fixed]], [[load]]): calls
+// The scene's arrays of tables ([[fixed]], [[load]], [[obstacle]], [[body]]): calls
 // visit(name, entries) for each, `entries` being the vector its tables fill.
 // Each table holds the keys that visit_entry_keys lists for its entry type,
 // addressed in messages and overrides as fixed.0.axes, load.1.force, ...
@@ -116,6 +116,7 @@ void visit_scene_arrays(SceneType& scene, Visit&& visit) {
   visit("fixed", scene.fixed);
   visit("load", scene.loads);
   visit("obstacle", scene.obstacles);
+  visit("body", scene.bodies);
 }
 
 // The keys of an optional motion table ([fixed.motion], [obstacle.motion]).
@@ -148,6 +149,33 @@ void visit_entry_keys(Obstacle& obstacle, Visit&& visit) {
   visit("box_max", obstacle.box_max);
   visit("friction", obstacle.friction);
   visit_motion_keys(obstacle.motion, visit);
+}
+
+// A [[body]]: the mesh keys of [mesh] (the generator's under `generator`),
+// its placement, initial velocity and material overrides.
+template <class Visit>
+void visit_entry_keys(Body& body, Visit&& visit) {
+  MeshSpec& mesh = body.mesh;
+  visit("file", mesh.file);
+  visit("generator.kind", mesh.generator);
+  visit("generator.helix.preset", body.helix_preset);
+  visit("generator.helix.resolution", mesh.helix.resolution);
+  visit("generator.helix.helix_radius", mesh.helix.helix_radius);
+  visit("generator.helix.tube_radius", mesh.helix.tube_radius);
+  visit("generator.helix.pitch", mesh.helix.pitch);
+  visit("generator.helix.turns", mesh.helix.turns);
+  visit("generator.box.cells", mesh.box.cells);
+  visit("generator.box.size", mesh.box.size);
+  visit("generator.box.origin", mesh.box.origin);
+  visit("generator.box.tets_per_cell", mesh.box.tets_per_cell);
+  visit("scale", body.scale);
+  visit("rotate.axis", body.rotate_axis);
+  visit("rotate.degrees", body.rotate_degrees);
+  visit("translate", body.translate);
+  visit("velocity", body.velocity);
+  visit("angular_velocity", body.angular_velocity);
+  visit("material.young", body.young);
+  visit("material.density", body.density);
 }
 
 template <class Visit>

@@ -137,8 +137,15 @@ class KeyChecker {
     if (at_scene_root) {
       for (const ArraySchema& array : arrays_) candidates.push_back(array.name);
     }
+    const std::string scene_key = join_key(table_key, name);
     if (const std::optional<std::string> close = closest_name(name, candidates)) {
       message += " (did you mean '" + shown_prefix + join_key(table_key, *close) + "'?)";
+    } else if (!shown_prefix.empty() && !table_key.empty() &&
+               std::find(scene_keys_.begin(), scene_keys_.end(), scene_key) != scene_keys_.end()) {
+      // [body.material] takes some of [material]'s keys; the others hold for
+      // the whole scene.
+      message += detail::concat(" ('", scene_key, "' holds for the whole scene: set it in [",
+                                table_key, "])");
     } else if (!at_scene_root && is_top_level_name(name)) {
       message +=
           detail::concat(" ('", name, "' is a top-level key: write it above the first [table])");

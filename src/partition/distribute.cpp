@@ -265,6 +265,7 @@ DistributedMesh distribute_mesh(MPI_Comm comm, MeshSlice slice, const PartitionS
                       slice.positions, mesh);
   slice.positions = {};
   tets = {};
+  mesh.local.body_vertex_offsets = std::move(slice.body_vertex_offsets);
   mesh.quality = partition_quality(comm, std::span(&mesh.local, 1), size, partition.cut_faces);
   return mesh;
 }

@@ -9,6 +9,7 @@
 // Local tet order: boundary tets (touching a shared vertex) first, then
 // interior tets, each group by ascending global id, so the boundary can be
 // computed first and its exchange overlapped with the interior.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct LocalMesh {
   index_t num_interior = 0;
   index_t num_owned = 0;
   std::vector<double> rest_positions;  // xyz per local vertex
+  // Global vertex ids of each body (Mesh::body_vertex_offsets): body b holds
+  // [body_vertex_offsets[b], body_vertex_offsets[b + 1]); empty: one body.
+  std::vector<global_index_t> body_vertex_offsets;
 
   std::vector<index_t> tets;  // 4 local vertex ids per local tet, positively oriented
   std::vector<global_index_t> global_tet;
@@ -48,6 +52,22 @@ struct LocalMesh {
   index_t num_vertices() const { return static_cast<index_t>(global_vertex.size()); }
   index_t num_tets() const { return static_cast<index_t>(global_tet.size()); }
   index_t num_shared() const { return num_vertices() - num_interior; }
+  int num_bodies() const {
+    return body_vertex_offsets.empty() ? 1 : static_cast<int>(body_vertex_offsets.size()) - 1;
+  }
 };
+
+// The body of each local vertex (all 0 for a mesh that is one body).
+inline std::vector<int> vertex_bodies(const LocalMesh& mesh) {
+  std::vector<int> body(mesh.num_vertices(), 0);
+  const auto& offsets = mesh.body_vertex_offsets;
+  if (offsets.empty()) return body;
+  for (index_t v = 0; v < mesh.num_vertices(); ++v)
+    body[v] =
+        static_cast<int>(std::upper_bound(offsets.begin(), offsets.end(), mesh.global_vertex[v]) -
+                         offsets.begin()) -
+        1;
+  return body;
+}
 
 }  // namespace descent

@@ -19,6 +19,24 @@ namespace {
 // rise and fall between checks).
 constexpr double kRestRoundoff = 64;
 
+// Per body: its density and the factor its Young's modulus puts on the
+// scene's energy density (Body: young scales every modulus alike). One entry
+// for a scene without [[body]].
+struct BodyMaterial {
+  double density;
+  double stiffness;
+};
+
+std::vector<BodyMaterial> body_materials(const Scene& scene) {
+  const MaterialSpec& m = scene.material;
+  if (scene.bodies.empty()) return {{m.density, 1.0}};
+  std::vector<BodyMaterial> out;
+  for (const Body& body : scene.bodies)
+    out.push_back(
+        {body.density > 0 ? body.density : m.density, body.young > 0 ? body.young / m.young : 1.0});
+  return out;
+}
+
 std::uint8_t axes_mask(const std::string& axes) {
   std::uint8_t mask = 0;
   for (char c : axes) mask |= static_cast<std::uint8_t>(1u << (c - 'x'));
@@ -56,9 +74,13 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   }
   rest_.resize(nt);
   // Lumped masses: each tet gives rho V / 4 to its corners; shared vertices
-  // are completed through the halo like any other partial sum.
+  // are completed through the halo like any other partial sum. A body of its
+  // own Young's modulus scales its tets' rest volume in rest_ (after the
+  // mass), which every elastic term multiplies.
   std::vector<Real> corner_mass(12 * static_cast<std::size_t>(nt));
   const auto& x = mesh.rest_positions;
+  const std::vector<BodyMaterial> materials = body_materials(scene);
+  const std::vector<int> body = vertex_bodies(mesh);
   for (index_t t = 0; t < nt; ++t) {
     Vec3<Real> c[4];
     for (int a = 0; a < 4; ++a) {
@@ -68,10 +90,13 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
     rest_[t] = tet_rest(c[0], c[1], c[2], c[3]);
     DESCENT_VERIFY(rest_[t].volume > 0, "tet ", mesh.global_tet[t],
                    " has non-positive rest volume ", rest_[t].volume);
-    const Real m = static_cast<Real>(scene.material.density) * rest_[t].volume / Real(4);
+    const BodyMaterial& material = materials[body[mesh.tets[4 * t]]];
+    const Real m = static_cast<Real>(material.density) * rest_[t].volume / Real(4);
     for (int k = 0; k < 12; ++k) corner_mass[12 * static_cast<std::size_t>(t) + k] = m;
+    rest_[t].volume *= static_cast<Real>(material.stiffness);
   }
-  // The body's volume (each tet lies on one rank), for the noise floor.
+  // The bodies' volume (each tet lies on one rank; a stiffer body's counted
+  // as its moduli scale it), for the noise floor.
   std::vector<double> volume(1, 0.0);
   for (index_t t = 0; t < nt; ++t) volume[0] += rest_[t].volume;
   reduction_.sum_in_place(volume);

@@ -22,8 +22,16 @@ constexpr std::string_view kSetPrefix = "--set ";
 // scene that breaks one slipped past a check.
 void check_scene(const descent::Scene& scene) {
   using descent::fuzz::broken_promise;
-  if (scene.mesh.generator.empty() == scene.mesh.file.empty())
+  if (scene.bodies.empty() && scene.mesh.generator.empty() == scene.mesh.file.empty())
     broken_promise("the scene has both or neither of mesh.generator and mesh.file");
+  for (const descent::Body& body : scene.bodies) {
+    if (body.mesh.generator.empty() == body.mesh.file.empty())
+      broken_promise("a body has both or neither of generator.kind and file");
+    if (!(body.scale > 0) || body.young < 0 || body.density < 0)
+      broken_promise("a body's scale or material is out of range");
+  }
+  if (!scene.bodies.empty() && !(scene.mesh.generator.empty() && scene.mesh.file.empty()))
+    broken_promise("a scene has both [mesh] and [[body]]");
   if (!(scene.mesh.scale > 0)) broken_promise("mesh.scale is not > 0");
   if (!(scene.time.dt > 0) || !std::isfinite(scene.time.dt)) broken_promise("time.dt is bad");
   if (scene.time.frames < 0 || scene.solver.iterations < 1) broken_promise("a count is bad");

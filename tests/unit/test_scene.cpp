@@ -1072,5 +1072,93 @@ TEST(Scene, ContactErrorsNameTheKey) {
   expect_has(error_of(scene, {"obstacle.0.friction=-1"}), "obstacle.0.friction must be >= 0");
 }
 
+// ------------------------------------------------------------------ bodies
+
+constexpr const char* kTwoBodies = R"([[body]]
+file = "meshes/ball.msh"
+scale = 0.5
+rotate = { axis = [1, 0, 0], degrees = 30 }
+translate = [0, 1, 0]
+velocity = [2, 0, 0]
+angular_velocity = [0, 0, 3]
+material = { young = 2e6, density = 500 }
+
+[[body]]
+[body.generator]
+kind = "double_helix"
+helix.preset = "41k"
+)";
+
+TEST(Scene, BodiesReadEveryKey) {
+  const Scene scene = parse(kTwoBodies);
+  ASSERT_EQ(scene.bodies.size(), 2u);
+  const Body& ball = scene.bodies[0];
+  EXPECT_EQ(ball.mesh.file, "meshes/ball.msh");
+  EXPECT_EQ(ball.mesh.generator, "");
+  EXPECT_EQ(ball.mesh.scale, 1.0);  // a body's scale is about its centroid
+  EXPECT_EQ(ball.scale, 0.5);
+  EXPECT_EQ(ball.rotate_axis, (Vec3{1, 0, 0}));
+  EXPECT_EQ(ball.rotate_degrees, 30.0);
+  EXPECT_EQ(ball.translate, (Vec3{0, 1, 0}));
+  EXPECT_EQ(ball.velocity, (Vec3{2, 0, 0}));
+  EXPECT_EQ(ball.angular_velocity, (Vec3{0, 0, 3}));
+  EXPECT_EQ(ball.young, 2e6);
+  EXPECT_EQ(ball.density, 500.0);
+  const Body& helix = scene.bodies[1];
+  EXPECT_EQ(helix.mesh.generator, "double_helix");
+  EXPECT_EQ(helix.mesh.helix.resolution, double_helix_preset_resolution("41k"));
+  EXPECT_EQ(helix.young, 0.0);  // the scene's
+  EXPECT_EQ(helix.scale, 1.0);
+  // A scene of bodies has no [mesh].
+  EXPECT_EQ(scene.mesh.generator, "");
+  EXPECT_EQ(scene.mesh.file, "");
+  // Overrides reach a body's keys like any other.
+  EXPECT_EQ(parse(kTwoBodies, {"body.1.velocity=[0,-1,0]"}).bodies[1].velocity, (Vec3{0, -1, 0}));
+}
+
+TEST(Scene, BodyFilesAreRelativeToTheScene) {
+  TempDir dir;
+  const fs::path scene_file = dir.write("scene.toml", "[[body]]\nfile = \"ball.msh\"\n");
+  EXPECT_EQ(load_scene(scene_file.string()).bodies[0].mesh.file,
+            (dir.path() / "ball.msh").string());
+}
+
+TEST(Scene, BodyErrorsNameTheBodyAndItsKey) {
+  const std::string box_body = "[[body]]\ngenerator = { kind = \"box\" }\n";
+  expect_has(error_of(std::string(kBoxScene) + box_body), "[mesh] and [[body]] exclude each other");
+  expect_has(error_of("[[body]]\nscale = 2\n"),
+             "scene.toml:1: body.0 needs a mesh: set body.0.generator.kind (\"double_helix\" or "
+             "\"box\") or body.0.file");
+  expect_has(error_of(box_body + "file = \"a.msh\"\n"),
+             "body.0.file and body.0.generator.kind exclude each other");
+  expect_has(error_of("[[body]]\ngenerator = { kind = \"cone\" }\n"),
+             "body.0.generator.kind must be one of \"double_helix\", \"box\", got \"cone\"");
+  const std::string box_table = "[[body]]\n[body.generator]\nkind = \"box\"\n";
+  expect_has(error_of(box_table + "helix.turns = 3\n"),
+             "body.0.generator.helix goes with body.0.generator.kind = \"double_helix\", but "
+             "body.0.generator.kind is \"box\"");
+  expect_has(error_of("[[body]]\n[body.generator]\nkind = \"double_helix\"\nhelix.preset = "
+                      "\"41k\"\nhelix.resolution = 2\n"),
+             "scene.toml:5: body.0.generator.helix.resolution and body.0.generator.helix.preset "
+             "exclude each other");
+  expect_has(error_of(box_table + "box.cells = [0, 1, 1]\n"),
+             "body.0.generator.box.cells must be at least 1 along each axis");
+  expect_has(error_of(box_body + "scale = 0\n"), "scene.toml:3: body.0.scale must be > 0, got 0");
+  expect_has(error_of(box_body + "rotate = { axis = [0, 0, 0], degrees = 10 }\n"),
+             "body.0.rotate.axis must not be [0, 0, 0] when body.0.rotate.degrees is not 0");
+  expect_has(error_of(box_body + "material = { young = -1 }\n"),
+             "body.0.material.young must be > 0, got -1");
+  expect_has(error_of(box_body + box_body + "material = { density = 0 }\n"),
+             "scene.toml:5: body.1.material.density must be > 0, got 0");
+  // The keys a body cannot override say where they belong.
+  expect_has(error_of(box_body + "material = { poisson = 0.4 }\n"),
+             "unknown key 'body.0.material.poisson' ('material.poisson' holds for the whole "
+             "scene: set it in [material])");
+  expect_has(error_of(box_body + "velocty = [1, 0, 0]\n"),
+             "unknown key 'body.0.velocty' (did you mean 'body.0.velocity'?)");
+  // A [mesh] key set from the command line meets the bodies the same way.
+  expect_has(error_of(box_body, {"mesh.scale=2"}), "[mesh] and [[body]] exclude each other");
+}
+
 }  // namespace
 }  // namespace descent
