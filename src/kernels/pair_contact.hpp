@@ -1,0 +1,83 @@
+#pragma once
+// The barrier term of one contact pair between surface primitives (issue 21,
+// step 3): kappa b(d) for a vertex and a triangle, kappa m(e) b(d) for two
+// edges, with d their distance (kernels/primitive_distance.hpp), b the
+// barrier of the obstacles (kernels/obstacle_contact.hpp: active below dh,
+// +inf at d = 0) and m the mollifier of nearly parallel edges. Host and
+// device. Layout of x, the gradient and the Hessian: primitive_distance.hpp.
+//
+// With D = d^2: B(D) = kappa b(sqrt D), B' = kappa b'(d) / (2 d) (<= 0) and
+// B'' = kappa (b''(d) / (4 d^2) - b'(d) / (4 d^3)), so
+//   grad = B' grad D,   hess = B'' grad D grad D^T + B' hess D   (exact).
+// The positive semi-definite part (psd), for a diagonal or a preconditioner,
+// is kappa b''(d) grad d grad d^T = kappa b''(d) / (4 d^2) grad D grad D^T:
+// the rest, kappa b'(d) hess d, is the distance's own curvature times the
+// barrier's push (b' <= 0); it vanishes along the normal of a face, where the
+// psd part is the exact Hessian. Edge pairs add the mollifier's terms to
+// `exact` (m'' B grad e grad e^T + m' B hess e + m' (grad e grad B^T +
+// grad B grad e^T)) and scale `psd` by m.
+#include <cmath>
+
+#include "kernels/obstacle_contact.hpp"
+#include "kernels/primitive_distance.hpp"
+
+namespace descent {
+
+enum class PairKind : int { vertex_triangle = 0, edge_edge = 1 };
+enum class PairHessian : int { none = 0, exact = 1, psd = 2 };
+
+template <class Real>
+struct PairTerms {
+  Real energy = 0;
+  Real distance = 0;
+  Real grad[12] = {};
+  Real hess[144] = {};  // row-major, when asked for
+};
+
+// `eps`: the mollifier's threshold for edge pairs (edge_parallelism).
+template <class Real>
+DESCENT_HOST_DEVICE inline PairTerms<Real> pair_barrier(PairKind kind, const Real* x, Real kappa,
+                                                        Real dh, Real eps, PairHessian hessian) {
+  const bool exact = hessian == PairHessian::exact;
+  const PairDistance<Real> dist = kind == PairKind::vertex_triangle
+                                      ? point_triangle_distance(x, exact)
+                                      : edge_edge_distance(x, exact);
+  PairTerms<Real> out;
+  const Real d = std::sqrt(dist.d2);
+  out.distance = d;
+  const BarrierValue<Real> b = barrier(d, dh);
+  if (b.energy == Real(0) && b.first == Real(0)) return out;  // beyond dh
+  if (!(d > Real(0))) {
+    out.energy = Real(INFINITY);
+    return out;
+  }
+  const Real energy = kappa * b.energy;
+  const Real first = kappa * b.first / (Real(2) * d);
+  const Real psd_second = kappa * b.second / (Real(4) * d * d);
+  const Real second = psd_second - kappa * b.first / (Real(4) * d * d * d);
+  Real m = 1;
+  Parallelism<Real> par{};
+  if (kind == PairKind::edge_edge) {
+    par = edge_parallelism(x, eps, exact);
+    m = par.m;
+  }
+  out.energy = m * energy;
+  for (int a = 0; a < 12; ++a)
+    out.grad[a] = m * first * dist.grad[a] + par.dm * energy * par.grad[a];
+  if (hessian == PairHessian::none) return out;
+  for (int a = 0; a < 12; ++a)
+    for (int c = 0; c < 12; ++c) {
+      Real h = m * (exact ? second : psd_second) * dist.grad[a] * dist.grad[c];
+      if (exact) {
+        h += m * first * dist.hess[12 * a + c];
+        if (kind == PairKind::edge_edge && par.dm != Real(0))
+          h += par.d2m * energy * par.grad[a] * par.grad[c] +
+               par.dm * energy * par.hess[12 * a + c] +
+               par.dm * first * (par.grad[a] * dist.grad[c] + dist.grad[a] * par.grad[c]);
+      }
+      out.hess[12 * a + c] = h;
+    }
+  return out;
+}
+
+}  // namespace descent
