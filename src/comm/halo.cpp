@@ -3,23 +3,13 @@
 #include <algorithm>
 
 #include "comm/mpi_check.hpp"
+#include "comm/mpi_type.hpp"
 #include "common/error.hpp"
 #include "partition/local_mesh.hpp"
 
 namespace descent {
 
 namespace {
-
-template <class Real>
-MPI_Datatype mpi_type();
-template <>
-MPI_Datatype mpi_type<double>() {
-  return MPI_DOUBLE;
-}
-template <>
-MPI_Datatype mpi_type<float>() {
-  return MPI_FLOAT;
-}
 
 constexpr int kHaloTag = 7101;
 

@@ -57,16 +57,19 @@ struct LocalMesh {
   }
 };
 
+// The body of global vertex `id` of a mesh with these body offsets
+// (LocalMesh::body_vertex_offsets; 0 when empty).
+inline int body_of_vertex(const std::vector<global_index_t>& offsets, global_index_t id) {
+  if (offsets.empty()) return 0;
+  return static_cast<int>(std::upper_bound(offsets.begin(), offsets.end(), id) - offsets.begin()) -
+         1;
+}
+
 // The body of each local vertex (all 0 for a mesh that is one body).
 inline std::vector<int> vertex_bodies(const LocalMesh& mesh) {
   std::vector<int> body(mesh.num_vertices(), 0);
-  const auto& offsets = mesh.body_vertex_offsets;
-  if (offsets.empty()) return body;
   for (index_t v = 0; v < mesh.num_vertices(); ++v)
-    body[v] =
-        static_cast<int>(std::upper_bound(offsets.begin(), offsets.end(), mesh.global_vertex[v]) -
-                         offsets.begin()) -
-        1;
+    body[v] = body_of_vertex(mesh.body_vertex_offsets, mesh.global_vertex[v]);
   return body;
 }
 

@@ -1,0 +1,233 @@
+#include "contact/contact_halo.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "comm/exchange.hpp"
+#include "comm/mpi_check.hpp"
+#include "comm/mpi_type.hpp"
+#include "contact/spatial_hash.hpp"
+
+namespace descent {
+
+namespace {
+
+constexpr int kGhostTag = 7301;
+
+// A surface triangle as it travels: its vertices' global ids.
+struct GhostTriangle {
+  global_index_t v[3];
+};
+
+// A vertex as it travels: global id and position.
+struct GhostVertex {
+  global_index_t id;
+  double x[3];
+};
+
+// What each rank tells the others at a rebuild: the box of its surface
+// vertices and its longest surface edge.
+struct SurfaceBox {
+  double lo[3], hi[3];
+  double longest_edge;
+};
+
+bool meets(const SurfaceBox& a, const Aabb& b, double grow) {
+  for (int i = 0; i < 3; ++i)
+    if (b.hi[i] < a.lo[i] - grow || a.hi[i] + grow < b.lo[i]) return false;
+  return true;
+}
+
+}  // namespace
+
+template <class Real>
+ContactHalo<Real>::ContactHalo(const LocalMesh& mesh, Halo<Real>& halo)
+    : mesh_(mesh), comm_(halo.comm()) {
+  const index_t nv = mesh.num_vertices();
+  std::vector<Real> on_surface(nv, Real(0));
+  for (index_t t = 0; t < mesh.num_tets(); ++t)
+    for (int f = 0; f < 4; ++f) {
+      if (!(mesh.surface_faces[t] & (1u << f))) continue;
+      std::array<index_t, 3> tri;
+      for (int k = 0; k < 3; ++k)
+        tri[k] = mesh.tets[4 * static_cast<std::size_t>(t) + kTetFaces[f][k]];
+      own_triangles_.push_back(tri);
+      for (index_t v : tri) on_surface[v] = 1;
+    }
+  // A vertex of another rank's surface triangle may lie on no surface face
+  // of this rank's tets: the sum tells every sharer.
+  halo.sum(on_surface.data(), 1);
+  for (index_t v = 0; v < nv; ++v)
+    if (on_surface[v] > Real(0)) surface_.push_back(v);
+  num_local_ = static_cast<index_t>(surface_.size());
+}
+
+template <class Real>
+void ContactHalo<Real>::rebuild(const Real* q, double reach) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm_, &rank);
+  MPI_Comm_size(comm_, &size);
+  auto point = [&](index_t v) {
+    return std::array<double, 3>{static_cast<double>(q[3 * v]), static_cast<double>(q[3 * v + 1]),
+                                 static_cast<double>(q[3 * v + 2])};
+  };
+  SurfaceBox mine{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}, 0.0};
+  for (index_t v : surface_) {
+    const std::array<double, 3> x = point(v);
+    for (int i = 0; i < 3; ++i) {
+      mine.lo[i] = std::min(mine.lo[i], x[i]);
+      mine.hi[i] = std::max(mine.hi[i], x[i]);
+    }
+  }
+  std::vector<Aabb> boxes(own_triangles_.size());
+  for (std::size_t k = 0; k < own_triangles_.size(); ++k)
+    for (int a = 0; a < 3; ++a) {
+      const std::array<double, 3> x = point(own_triangles_[k][a]),
+                                  y = point(own_triangles_[k][(a + 1) % 3]);
+      boxes[k].add(x.data());
+      mine.longest_edge =
+          std::max(mine.longest_edge, std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]));
+    }
+  std::vector<SurfaceBox> all(size);
+  DESCENT_MPI_CHECK(MPI_Allgather(&mine, sizeof(SurfaceBox), MPI_BYTE, all.data(),
+                                  sizeof(SurfaceBox), MPI_BYTE, comm_));
+  double longest = 0;
+  for (const SurfaceBox& box : all) longest = std::max(longest, box.longest_edge);
+  const double grow = reach + longest;
+
+  // Each triangle goes to every other rank whose grown box it meets, with
+  // its vertices (each once per rank).
+  Outbox<GhostTriangle> triangle_out(size);
+  Outbox<GhostVertex> vertex_out(size);
+  std::vector<std::vector<index_t>> sent(size);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int s = 0; s < size; ++s) {
+      if (s == rank) continue;
+      if (pass == 0) sent[s].clear();
+      for (std::size_t k = 0; k < own_triangles_.size(); ++k) {
+        if (!meets(all[s], boxes[k], grow)) continue;
+        const auto& tri = own_triangles_[k];
+        if (pass == 0) {
+          triangle_out.count(s);
+          sent[s].insert(sent[s].end(), tri.begin(), tri.end());
+        } else {
+          triangle_out.place(s, {{mesh_.global_vertex[tri[0]], mesh_.global_vertex[tri[1]],
+                                  mesh_.global_vertex[tri[2]]}});
+        }
+      }
+      if (pass == 0) {
+        // Sorted by global id (local ids of one group are), each once.
+        std::sort(sent[s].begin(), sent[s].end(), [&](index_t a, index_t b) {
+          return mesh_.global_vertex[a] < mesh_.global_vertex[b];
+        });
+        sent[s].erase(std::unique(sent[s].begin(), sent[s].end()), sent[s].end());
+        for (std::size_t i = 0; i < sent[s].size(); ++i) vertex_out.count(s);
+      } else {
+        for (index_t v : sent[s]) {
+          const std::array<double, 3> x = point(v);
+          vertex_out.place(s, {mesh_.global_vertex[v], {x[0], x[1], x[2]}});
+        }
+      }
+    }
+    if (pass == 0) {
+      triangle_out.allocate();
+      vertex_out.allocate();
+    }
+  }
+  const Inbox<GhostTriangle> triangles_in = exchange(comm_, triangle_out);
+  const Inbox<GhostVertex> vertices_in = exchange(comm_, vertex_out);
+
+  // Contact vertices: the local surface, then the ghosts by global id.
+  std::unordered_map<global_index_t, index_t> index_of;
+  local_vertex_.assign(surface_.begin(), surface_.end());
+  global_id_.clear();
+  for (index_t v : surface_) {
+    index_of.emplace(mesh_.global_vertex[v], static_cast<index_t>(global_id_.size()));
+    global_id_.push_back(mesh_.global_vertex[v]);
+  }
+  std::vector<global_index_t> ghosts;
+  for (const GhostVertex& g : vertices_in.records)
+    if (!index_of.count(g.id)) ghosts.push_back(g.id);
+  std::sort(ghosts.begin(), ghosts.end());
+  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+  for (global_index_t id : ghosts) {
+    index_of.emplace(id, static_cast<index_t>(global_id_.size()));
+    global_id_.push_back(id);
+    local_vertex_.push_back(-1);
+  }
+  body_.resize(global_id_.size());
+  for (std::size_t c = 0; c < global_id_.size(); ++c)
+    body_[c] = body_of_vertex(mesh_.body_vertex_offsets, global_id_[c]);
+
+  triangles_.clear();
+  std::vector<index_t> contact_of_local(mesh_.num_vertices(), -1);
+  for (index_t c = 0; c < num_local_; ++c) contact_of_local[surface_[c]] = c;
+  for (const auto& tri : own_triangles_)
+    triangles_.push_back(
+        {contact_of_local[tri[0]], contact_of_local[tri[1]], contact_of_local[tri[2]]});
+  for (const GhostTriangle& t : triangles_in.records)
+    triangles_.push_back({index_of.at(t.v[0]), index_of.at(t.v[1]), index_of.at(t.v[2])});
+
+  positions_.assign(3 * global_id_.size(), Real(0));
+  for (index_t c = 0; c < num_local_; ++c)
+    for (int i = 0; i < 3; ++i) positions_[3 * c + i] = q[3 * surface_[c] + i];
+  for (const GhostVertex& g : vertices_in.records) {
+    const index_t c = index_of.at(g.id);
+    if (c >= num_local_)
+      for (int i = 0; i < 3; ++i) positions_[3 * c + i] = static_cast<Real>(g.x[i]);
+  }
+
+  // The neighbours of update_ghosts: who sent vertices, who was sent them.
+  destinations_.clear();
+  send_vertices_.clear();
+  for (int s = 0; s < size; ++s)
+    if (!sent[s].empty()) {
+      destinations_.push_back(s);
+      send_vertices_.push_back(sent[s]);
+    }
+  sources_.clear();
+  receive_slots_.clear();
+  for (int s = 0; s < size; ++s) {
+    const std::size_t begin = vertices_in.from_offsets[s], end = vertices_in.from_offsets[s + 1];
+    if (begin == end) continue;
+    sources_.push_back(s);
+    std::vector<index_t>& slots = receive_slots_.emplace_back();
+    for (std::size_t k = begin; k < end; ++k) {
+      const index_t c = index_of.at(vertices_in.records[k].id);
+      slots.push_back(c >= num_local_ ? c : -1);
+    }
+  }
+}
+
+template <class Real>
+void ContactHalo<Real>::update_ghosts(const Real* q) {
+  for (index_t c = 0; c < num_local_; ++c)
+    for (int i = 0; i < 3; ++i) positions_[3 * c + i] = q[3 * surface_[c] + i];
+  std::vector<std::vector<Real>> out(destinations_.size()), in(sources_.size());
+  std::vector<MPI_Request> requests;
+  requests.reserve(sources_.size() + destinations_.size());
+  for (std::size_t s = 0; s < sources_.size(); ++s) {
+    in[s].resize(3 * receive_slots_[s].size());
+    DESCENT_MPI_CHECK(MPI_Irecv(in[s].data(), static_cast<int>(in[s].size()), mpi_type<Real>(),
+                                sources_[s], kGhostTag, comm_, &requests.emplace_back()));
+  }
+  for (std::size_t d = 0; d < destinations_.size(); ++d) {
+    for (index_t v : send_vertices_[d])
+      for (int i = 0; i < 3; ++i) out[d].push_back(q[3 * v + i]);
+    DESCENT_MPI_CHECK(MPI_Isend(out[d].data(), static_cast<int>(out[d].size()), mpi_type<Real>(),
+                                destinations_[d], kGhostTag, comm_, &requests.emplace_back()));
+  }
+  DESCENT_MPI_CHECK(
+      MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE));
+  for (std::size_t s = 0; s < sources_.size(); ++s)
+    for (std::size_t k = 0; k < receive_slots_[s].size(); ++k) {
+      const index_t c = receive_slots_[s][k];
+      if (c >= 0)
+        for (int i = 0; i < 3; ++i) positions_[3 * c + i] = in[s][3 * k + i];
+    }
+}
+
+template class ContactHalo<double>;
+template class ContactHalo<float>;
+
+}  // namespace descent

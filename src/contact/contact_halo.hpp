@@ -1,0 +1,80 @@
+#pragma once
+// The surface that contact between bodies sees on one rank (issue 21, step
+// 3): this rank's surface vertices and the triangles its tets hold, plus the
+// contact halo, the surface triangles of other ranks that lie near this
+// rank's surface, with their vertices ("ghosts").
+//
+// Near: a triangle of rank s comes to rank r when its bounding box meets the
+// box of r's surface vertices grown by `reach` + the longest surface edge
+// of any rank. So every pair of primitives closer than `reach` that touches
+// a vertex of r is complete on r: the other primitive lies within reach of
+// a primitive through that vertex, which lies within one edge of it.
+//
+// Rebuilt collectively (one MPI_Allgather of boxes, one all-to-all of
+// triangles and vertices: rebuild()); between rebuilds, each iteration
+// refreshes the ghosts' positions with messages to the contact neighbours
+// only (update_ghosts(): no collective), 3 reals per ghost vertex.
+//
+// Contact vertex numbering: [local surface vertices (ascending local id) |
+// ghosts (ascending global id)].
+#include <mpi.h>
+
+#include <array>
+#include <unordered_map>
+#include <vector>
+
+#include "comm/halo.hpp"
+#include "partition/local_mesh.hpp"
+
+namespace descent {
+
+template <class Real>
+class ContactHalo {
+ public:
+  // Collective over the halo's communicator: marks the surface vertices on
+  // every sharer (one halo sum). `mesh` must outlive the object.
+  ContactHalo(const LocalMesh& mesh, Halo<Real>& halo);
+
+  // Collective: the ghosts and triangles for positions q (3 per local
+  // vertex) and this reach.
+  void rebuild(const Real* q, double reach);
+  // Neighbour messages only: the ghosts' positions from their holders'
+  // q, and the local surface vertices' copied from this rank's q.
+  void update_ghosts(const Real* q);
+
+  index_t num_local() const { return num_local_; }
+  index_t num_vertices() const { return static_cast<index_t>(global_id_.size()); }
+  // Per contact vertex: its local vertex (local ones; -1 for ghosts), its
+  // global id, its body, and whether this rank owns it.
+  const std::vector<index_t>& local_vertex() const { return local_vertex_; }
+  const std::vector<global_index_t>& global_id() const { return global_id_; }
+  const std::vector<int>& body() const { return body_; }
+  bool owned(index_t c) const { return c < num_local_ && local_vertex_[c] < mesh_.num_owned; }
+  // Surface triangles (contact vertex indices, counter-clockwise seen from
+  // outside): this rank's, then the halo's.
+  const std::vector<std::array<index_t, 3>>& triangles() const { return triangles_; }
+  // xyz per contact vertex, as of the last rebuild or update_ghosts.
+  const std::vector<Real>& positions() const { return positions_; }
+  // Ranks this one receives ghosts from and sends them to.
+  const std::vector<int>& sources() const { return sources_; }
+  const std::vector<int>& destinations() const { return destinations_; }
+
+ private:
+  const LocalMesh& mesh_;
+  MPI_Comm comm_;
+  std::vector<index_t> surface_;                       // local surface vertices, ascending
+  std::vector<std::array<index_t, 3>> own_triangles_;  // local vertex ids
+  index_t num_local_ = 0;
+  std::vector<index_t> local_vertex_;
+  std::vector<global_index_t> global_id_;
+  std::vector<int> body_;
+  std::vector<std::array<index_t, 3>> triangles_;
+  std::vector<Real> positions_;
+  // Per destination: local vertices whose positions it gets; per source: the
+  // contact index each received position goes to (-1: a vertex local here).
+  std::vector<int> destinations_, sources_;
+  std::vector<std::vector<index_t>> send_vertices_;
+  std::vector<std::vector<index_t>> receive_slots_;
+};
+
+}  // namespace descent

@@ -1,0 +1,117 @@
+#include "contact/contact_pairs.hpp"
+
+#include <algorithm>
+
+#include "contact/spatial_hash.hpp"
+#include "kernels/primitive_distance.hpp"
+
+namespace descent {
+
+namespace {
+
+template <class Real>
+Aabb bounds(const ContactHalo<Real>& halo, const index_t* v, int count, double grow) {
+  Aabb box;
+  for (int k = 0; k < count; ++k) {
+    const Real* x = &halo.positions()[3 * static_cast<std::size_t>(v[k])];
+    const double p[3] = {x[0], x[1], x[2]};
+    box.add(p);
+  }
+  for (int i = 0; i < 3; ++i) {
+    box.lo[i] -= grow;
+    box.hi[i] += grow;
+  }
+  return box;
+}
+
+template <class Real>
+void gather(const ContactHalo<Real>& halo, const std::array<index_t, 4>& v, Real* x) {
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 3; ++i)
+      x[3 * k + i] = halo.positions()[3 * static_cast<std::size_t>(v[k]) + i];
+}
+
+}  // namespace
+
+template <class Real>
+ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, bool self) {
+  const auto& gid = halo.global_id();
+  const auto& body = halo.body();
+  const auto& triangles = halo.triangles();
+  const index_t local = halo.num_local();
+  auto touches_local = [&](const std::array<index_t, 4>& v) {
+    return std::any_of(v.begin(), v.end(), [&](index_t c) { return c < local; });
+  };
+  auto by_id = [&](index_t a, index_t b) { return gid[a] < gid[b]; };
+
+  // Vertices of the triangles, and their edges each once, lesser id first.
+  std::vector<index_t> vertices;
+  std::vector<std::array<index_t, 2>> edges;
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      vertices.push_back(t[k]);
+      std::array<index_t, 2> e{t[k], t[(k + 1) % 3]};
+      if (by_id(e[1], e[0])) std::swap(e[0], e[1]);
+      edges.push_back(e);
+    }
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  const auto edge_key = [&](const std::array<index_t, 2>& e) {
+    return std::array<global_index_t, 2>{gid[e[0]], gid[e[1]]};
+  };
+  std::sort(edges.begin(), edges.end(),
+            [&](const auto& a, const auto& b) { return edge_key(a) < edge_key(b); });
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+
+  ContactPairs pairs;
+  const double reach2 = reach * reach;
+  std::vector<index_t> found;
+  Real x[12];
+
+  std::vector<Aabb> triangle_boxes;
+  for (const auto& t : triangles) triangle_boxes.push_back(bounds(halo, t.data(), 3, 0.0));
+  const SpatialHash triangle_hash(triangle_boxes, SpatialHash::cell_size_for(triangle_boxes));
+  for (index_t p : vertices) {
+    triangle_hash.candidates(bounds(halo, &p, 1, reach), found);
+    for (index_t k : found) {
+      const auto& t = triangles[k];
+      if (p == t[0] || p == t[1] || p == t[2]) continue;
+      if (!self && (body[p] == body[t[0]])) continue;
+      const std::array<index_t, 4> v{p, t[0], t[1], t[2]};
+      if (!touches_local(v)) continue;
+      gather(halo, v, x);
+      if (point_triangle_distance(x, false).d2 < reach2) pairs.vertex_triangle.push_back(v);
+    }
+  }
+
+  std::vector<Aabb> edge_boxes;
+  for (const auto& e : edges) edge_boxes.push_back(bounds(halo, e.data(), 2, 0.0));
+  const SpatialHash edge_hash(edge_boxes, SpatialHash::cell_size_for(edge_boxes));
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    edge_hash.candidates(bounds(halo, edges[i].data(), 2, reach), found);
+    for (index_t k : found) {
+      if (static_cast<std::size_t>(k) <= i) continue;  // each pair once: the later edge
+      const auto& a = edges[i];
+      const auto& b = edges[k];
+      if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
+      if (!self && body[a[0]] == body[b[0]]) continue;
+      const std::array<index_t, 4> v{a[0], a[1], b[0], b[1]};
+      if (!touches_local(v)) continue;
+      gather(halo, v, x);
+      if (edge_edge_distance(x, false).d2 < reach2) pairs.edge_edge.push_back(v);
+    }
+  }
+
+  const auto key = [&](const std::array<index_t, 4>& v) {
+    return std::array<global_index_t, 4>{gid[v[0]], gid[v[1]], gid[v[2]], gid[v[3]]};
+  };
+  for (auto* list : {&pairs.vertex_triangle, &pairs.edge_edge})
+    std::sort(list->begin(), list->end(),
+              [&](const auto& a, const auto& b) { return key(a) < key(b); });
+  return pairs;
+}
+
+template ContactPairs find_contact_pairs(const ContactHalo<double>&, double, bool);
+template ContactPairs find_contact_pairs(const ContactHalo<float>&, double, bool);
+
+}  // namespace descent
