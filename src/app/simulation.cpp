@@ -14,7 +14,8 @@ bool scene_needs_measurements(const Scene& scene) {
   bool moving = false;
   for (const FixedRegion& region : scene.fixed) moving = moving || region.motion.kind != "none";
   return moving || !scene.loads.empty() || scene.time.quasistatic ||
-         scene.material.conversion.enabled || !scene.obstacles.empty() || !scene.bodies.empty();
+         scene.material.conversion.enabled || !scene.obstacles.empty() || !scene.bodies.empty() ||
+         scene.contact.self;
 }
 
 std::vector<std::string> scene_measurement_names(const Scene& scene) {
@@ -35,6 +36,10 @@ std::vector<std::string> scene_measurement_names(const Scene& scene) {
     names.push_back(detail::concat("obstacle", k, "_contacts"));
   }
   if (!scene.obstacles.empty()) names.push_back("contact_penetration");
+  if (has_body_contact(scene)) {
+    names.push_back("body_contact_pairs");
+    names.push_back("body_contact_least_distance");
+  }
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     for (const char* a : xyz) names.push_back(detail::concat("body", b, "_com_", a));
     for (const char* a : xyz) names.push_back(detail::concat("body", b, "_velocity_", a));
@@ -225,6 +230,9 @@ std::vector<double> Simulation<Real>::measure() {
     const std::vector<double> c = contact->local_sums(state_.q.data());
     sums.insert(sums.end(), c.begin(), c.end());
   }
+  BodyContact<Real>* pairs = problem_.body_contact();
+  const std::size_t pairs_at = sums.size();
+  if (pairs) sums.push_back(pairs->local_active_pairs(state_.q.data()));
   const std::size_t bodies_at = sums.size();
   if (!scene_.bodies.empty()) {
     const std::vector<double> b = local_body_sums(local_, vertex_bodies(local_), problem_.mass(),
@@ -248,8 +256,12 @@ std::vector<double> Simulation<Real>::measure() {
   }
   if (scene_.material.conversion.enabled) values.push_back(sums[contact_at - 1]);
   if (contact) {
-    values.insert(values.end(), sums.begin() + contact_at, sums.begin() + bodies_at);
+    values.insert(values.end(), sums.begin() + contact_at, sums.begin() + pairs_at);
     values.push_back(reduction_.max_of(contact->local_penetration(state_.q.data())));
+  }
+  if (pairs) {
+    values.push_back(sums[pairs_at]);
+    values.push_back(-reduction_.max_of(-pairs->local_least_distance(state_.q.data())));
   }
   for (std::size_t b = 0; b < scene_.bodies.size(); ++b) {
     const double* s = &sums[bodies_at + kBodySums * b];

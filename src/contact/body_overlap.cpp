@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
 
 #include "common/error.hpp"
 #include "contact/spatial_hash.hpp"
+#include "kernels/primitive_distance.hpp"
 
 namespace descent {
 
@@ -28,6 +28,8 @@ double orient(Point a, Point b, Point c, Point d) {
 // faces that touch in a plane, whose volumes are rounding noise once the
 // bodies are rotated, are not taken for crossings.
 constexpr double kTouching = 1e-10;
+// A vertex this close to a surface triangle, relative to L, is on it.
+constexpr double kOnSurface = 1e-9;
 
 struct Primitives {
   std::vector<std::array<index_t, 3>> triangles;  // surface, outward
@@ -38,10 +40,8 @@ struct Primitives {
   double size = 0;  // mean surface edge length
 };
 
-// Each body's surface (faces of one tet only), edges, vertices and tets;
-// surface_faces gets per tet bit f set for a surface face f (kTetFaces).
-std::vector<Primitives> body_primitives(const Mesh& mesh, int num_bodies,
-                                        std::vector<std::uint8_t>& surface_faces) {
+// Each body's surface (faces of one tet only), edges, vertices and tets.
+std::vector<Primitives> body_primitives(const Mesh& mesh, int num_bodies) {
   const auto& offsets = mesh.body_vertex_offsets;
   auto body_of = [&](index_t v) {
     return static_cast<int>(std::upper_bound(offsets.begin(), offsets.end(), v) - offsets.begin()) -
@@ -66,13 +66,11 @@ std::vector<Primitives> body_primitives(const Mesh& mesh, int num_bodies,
     }
   }
   std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.key < b.key; });
-  surface_faces.assign(mesh.num_tets(), 0);
   for (std::size_t i = 0; i < faces.size();) {
     std::size_t j = i + 1;
     while (j < faces.size() && faces[j].key == faces[i].key) ++j;
     if (j == i + 1) {
       const Face& f = faces[i];
-      surface_faces[f.tet] |= static_cast<std::uint8_t>(1u << f.face);
       std::array<index_t, 3> corners;
       for (int k = 0; k < 3; ++k) corners[k] = mesh.tets[4 * f.tet + kTetFaces[f.face][k]];
       bodies[body_of(corners[0])].triangles.push_back(corners);
@@ -131,20 +129,18 @@ bool crosses(Point p, Point q, Point a, Point b, Point c, double zero, double* a
   return true;
 }
 
-// Whether p lies inside the body that tet x (surface faces `surface`) is
-// part of: in the closed tet, and on none of its surface faces (a point on
-// an inner face or edge is inside; one on the surface only touches).
-bool inside_body(Point p, const std::array<Point, 4>& x, std::uint8_t surface, double zero) {
-  double volume[4];
+// Where p lies against tet x: outside (0), on its boundary (1: a face,
+// edge or corner of it, to `zero`) or strictly inside (2).
+int in_tet(Point p, const std::array<Point, 4>& x, double zero) {
+  bool boundary = false;
   for (int f = 0; f < 4; ++f) {
     std::array<Point, 4> y = x;
     y[f] = p;
-    volume[f] = orient(y[0], y[1], y[2], y[3]);
-    if (volume[f] < -zero) return false;
+    const double volume = orient(y[0], y[1], y[2], y[3]);
+    if (volume < -zero) return 0;
+    boundary = boundary || volume <= zero;
   }
-  for (int f = 0; f < 4; ++f)
-    if (volume[f] <= zero && (surface & (1u << f))) return false;
-  return true;
+  return boundary ? 1 : 2;
 }
 
 Aabb bounds_of(const Mesh& mesh, const index_t* ids, int count) {
@@ -158,8 +154,7 @@ Aabb bounds_of(const Mesh& mesh, const index_t* ids, int count) {
 void check_bodies_apart(const Mesh& mesh, const std::vector<std::string>& names) {
   const int num_bodies = static_cast<int>(mesh.body_vertex_offsets.size()) - 1;
   if (num_bodies < 2) return;
-  std::vector<std::uint8_t> surface_faces;
-  const std::vector<Primitives> bodies = body_primitives(mesh, num_bodies, surface_faces);
+  const std::vector<Primitives> bodies = body_primitives(mesh, num_bodies);
   auto at = [&](index_t v) { return &mesh.positions[3 * static_cast<std::size_t>(v)]; };
   std::vector<index_t> found;
   for (int b = 0; b < num_bodies; ++b) {
@@ -196,15 +191,30 @@ void check_bodies_apart(const Mesh& mesh, const std::vector<std::string>& names)
         Aabb box;
         box.add(at(v));
         if (!box.overlaps(target.bounds)) continue;
+        // Inside: strictly inside a tet, or on a tet's boundary (an inner
+        // face, edge or corner) and on no surface triangle of the body.
         tets.candidates(box, found);
+        int where = 0;
         for (index_t k : found) {
-          const index_t t = target.tets[k];
-          const index_t* corners = &mesh.tets[4 * t];
-          if (inside_body(at(v), {at(corners[0]), at(corners[1]), at(corners[2]), at(corners[3])},
-                          surface_faces[t], zero))
-            throw_overlap(names[a], names[b], at(v),
-                          "a vertex of the first lies inside the second");
+          const index_t* corners = &mesh.tets[4 * target.tets[k]];
+          where = std::max(
+              where, in_tet(at(v), {at(corners[0]), at(corners[1]), at(corners[2]), at(corners[3])},
+                            zero));
+          if (where == 2) break;
         }
+        if (where == 1) {
+          triangles.candidates(box, found);
+          for (index_t k : found) {
+            const auto& tri = target.triangles[k];
+            const double x[12] = {at(v)[0],      at(v)[1],      at(v)[2],      at(tri[0])[0],
+                                  at(tri[0])[1], at(tri[0])[2], at(tri[1])[0], at(tri[1])[1],
+                                  at(tri[1])[2], at(tri[2])[0], at(tri[2])[1], at(tri[2])[2]};
+            if (point_triangle_distance(x, false).d2 <= kOnSurface * kOnSurface * length * length)
+              where = 0;  // on the surface: touching
+          }
+        }
+        if (where > 0)
+          throw_overlap(names[a], names[b], at(v), "a vertex of the first lies inside the second");
       }
     }
   }

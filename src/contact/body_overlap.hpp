@@ -1,10 +1,10 @@
 #pragma once
 // Whether the bodies of a scene ([[body]]) start apart: two bodies overlap
 // when a surface edge of one crosses a surface triangle of the other, or a
-// surface vertex of one lies inside the other (in one of its tets and on
-// none of its surface faces: one body wholly inside another crosses no
-// surface). Bodies that touch (a face on a face, a
-// vertex on a face) or lie closer than contact.distance do not overlap.
+// surface vertex of one lies inside the other (strictly inside one of its
+// tets, or on an inner face, edge or corner and on none of its surface
+// triangles: one body wholly inside another crosses no surface). Bodies that touch (a face on a
+// face, a vertex on a face) or lie closer than contact.distance do not overlap.
 #include <string>
 #include <vector>
 

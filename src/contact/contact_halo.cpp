@@ -7,6 +7,7 @@
 #include "comm/mpi_check.hpp"
 #include "comm/mpi_type.hpp"
 #include "contact/spatial_hash.hpp"
+#include "contact/surface_vertices.hpp"
 
 namespace descent {
 
@@ -23,6 +24,7 @@ struct GhostTriangle {
 struct GhostVertex {
   global_index_t id;
   double x[3];
+  double value;  // the vertex's carried value (ContactHalo::rebuild)
 };
 
 // What each rank tells the others at a rebuild: the box of its surface
@@ -43,8 +45,6 @@ bool meets(const SurfaceBox& a, const Aabb& b, double grow) {
 template <class Real>
 ContactHalo<Real>::ContactHalo(const LocalMesh& mesh, Halo<Real>& halo)
     : mesh_(mesh), comm_(halo.comm()) {
-  const index_t nv = mesh.num_vertices();
-  std::vector<Real> on_surface(nv, Real(0));
   for (index_t t = 0; t < mesh.num_tets(); ++t)
     for (int f = 0; f < 4; ++f) {
       if (!(mesh.surface_faces[t] & (1u << f))) continue;
@@ -52,18 +52,13 @@ ContactHalo<Real>::ContactHalo(const LocalMesh& mesh, Halo<Real>& halo)
       for (int k = 0; k < 3; ++k)
         tri[k] = mesh.tets[4 * static_cast<std::size_t>(t) + kTetFaces[f][k]];
       own_triangles_.push_back(tri);
-      for (index_t v : tri) on_surface[v] = 1;
     }
-  // A vertex of another rank's surface triangle may lie on no surface face
-  // of this rank's tets: the sum tells every sharer.
-  halo.sum(on_surface.data(), 1);
-  for (index_t v = 0; v < nv; ++v)
-    if (on_surface[v] > Real(0)) surface_.push_back(v);
+  surface_ = surface_vertices(mesh, halo);
   num_local_ = static_cast<index_t>(surface_.size());
 }
 
 template <class Real>
-void ContactHalo<Real>::rebuild(const Real* q, double reach) {
+void ContactHalo<Real>::rebuild(const Real* q, double reach, const std::vector<Real>& carried) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm_, &rank);
   MPI_Comm_size(comm_, &size);
@@ -125,7 +120,9 @@ void ContactHalo<Real>::rebuild(const Real* q, double reach) {
       } else {
         for (index_t v : sent[s]) {
           const std::array<double, 3> x = point(v);
-          vertex_out.place(s, {mesh_.global_vertex[v], {x[0], x[1], x[2]}});
+          vertex_out.place(s, {mesh_.global_vertex[v],
+                               {x[0], x[1], x[2]},
+                               carried.empty() ? 0.0 : static_cast<double>(carried[v])});
         }
       }
     }
@@ -169,12 +166,16 @@ void ContactHalo<Real>::rebuild(const Real* q, double reach) {
     triangles_.push_back({index_of.at(t.v[0]), index_of.at(t.v[1]), index_of.at(t.v[2])});
 
   positions_.assign(3 * global_id_.size(), Real(0));
-  for (index_t c = 0; c < num_local_; ++c)
+  carried_.assign(global_id_.size(), Real(0));
+  for (index_t c = 0; c < num_local_; ++c) {
     for (int i = 0; i < 3; ++i) positions_[3 * c + i] = q[3 * surface_[c] + i];
+    if (!carried.empty()) carried_[c] = carried[surface_[c]];
+  }
   for (const GhostVertex& g : vertices_in.records) {
     const index_t c = index_of.at(g.id);
-    if (c >= num_local_)
-      for (int i = 0; i < 3; ++i) positions_[3 * c + i] = static_cast<Real>(g.x[i]);
+    if (c < num_local_) continue;
+    for (int i = 0; i < 3; ++i) positions_[3 * c + i] = static_cast<Real>(g.x[i]);
+    carried_[c] = static_cast<Real>(g.value);
   }
 
   // The neighbours of update_ghosts: who sent vertices, who was sent them.
@@ -200,10 +201,11 @@ void ContactHalo<Real>::rebuild(const Real* q, double reach) {
 }
 
 template <class Real>
-void ContactHalo<Real>::update_ghosts(const Real* q) {
+void ContactHalo<Real>::gather(const Real* values, std::vector<Real>& out) const {
+  out.resize(3 * global_id_.size());
   for (index_t c = 0; c < num_local_; ++c)
-    for (int i = 0; i < 3; ++i) positions_[3 * c + i] = q[3 * surface_[c] + i];
-  std::vector<std::vector<Real>> out(destinations_.size()), in(sources_.size());
+    for (int i = 0; i < 3; ++i) out[3 * c + i] = values[3 * surface_[c] + i];
+  std::vector<std::vector<Real>> sending(destinations_.size()), in(sources_.size());
   std::vector<MPI_Request> requests;
   requests.reserve(sources_.size() + destinations_.size());
   for (std::size_t s = 0; s < sources_.size(); ++s) {
@@ -213,9 +215,10 @@ void ContactHalo<Real>::update_ghosts(const Real* q) {
   }
   for (std::size_t d = 0; d < destinations_.size(); ++d) {
     for (index_t v : send_vertices_[d])
-      for (int i = 0; i < 3; ++i) out[d].push_back(q[3 * v + i]);
-    DESCENT_MPI_CHECK(MPI_Isend(out[d].data(), static_cast<int>(out[d].size()), mpi_type<Real>(),
-                                destinations_[d], kGhostTag, comm_, &requests.emplace_back()));
+      for (int i = 0; i < 3; ++i) sending[d].push_back(values[3 * v + i]);
+    DESCENT_MPI_CHECK(MPI_Isend(sending[d].data(), static_cast<int>(sending[d].size()),
+                                mpi_type<Real>(), destinations_[d], kGhostTag, comm_,
+                                &requests.emplace_back()));
   }
   DESCENT_MPI_CHECK(
       MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE));
@@ -223,7 +226,7 @@ void ContactHalo<Real>::update_ghosts(const Real* q) {
     for (std::size_t k = 0; k < receive_slots_[s].size(); ++k) {
       const index_t c = receive_slots_[s][k];
       if (c >= 0)
-        for (int i = 0; i < 3; ++i) positions_[3 * c + i] = in[s][3 * k + i];
+        for (int i = 0; i < 3; ++i) out[3 * c + i] = in[s][3 * k + i];
     }
 }
 

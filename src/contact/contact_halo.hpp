@@ -36,11 +36,15 @@ class ContactHalo {
   ContactHalo(const LocalMesh& mesh, Halo<Real>& halo);
 
   // Collective: the ghosts and triangles for positions q (3 per local
-  // vertex) and this reach.
-  void rebuild(const Real* q, double reach);
-  // Neighbour messages only: the ghosts' positions from their holders'
-  // q, and the local surface vertices' copied from this rank's q.
-  void update_ghosts(const Real* q);
+  // vertex) and this reach. `carried` (one per local vertex, or empty)
+  // travels with the ghosts: carried() gives it per contact vertex.
+  void rebuild(const Real* q, double reach, const std::vector<Real>& carried = {});
+  // Neighbour messages only: `values` (3 per local vertex, the same on
+  // every sharer) per contact vertex into `out`, the ghosts' from their
+  // holders.
+  void gather(const Real* values, std::vector<Real>& out) const;
+  // gather() of positions q into positions().
+  void update_ghosts(const Real* q) { gather(q, positions_); }
 
   index_t num_local() const { return num_local_; }
   index_t num_vertices() const { return static_cast<index_t>(global_id_.size()); }
@@ -55,6 +59,7 @@ class ContactHalo {
   const std::vector<std::array<index_t, 3>>& triangles() const { return triangles_; }
   // xyz per contact vertex, as of the last rebuild or update_ghosts.
   const std::vector<Real>& positions() const { return positions_; }
+  const std::vector<Real>& carried() const { return carried_; }
   // Ranks this one receives ghosts from and sends them to.
   const std::vector<int>& sources() const { return sources_; }
   const std::vector<int>& destinations() const { return destinations_; }
@@ -70,6 +75,7 @@ class ContactHalo {
   std::vector<int> body_;
   std::vector<std::array<index_t, 3>> triangles_;
   std::vector<Real> positions_;
+  std::vector<Real> carried_;
   // Per destination: local vertices whose positions it gets; per source: the
   // contact index each received position goes to (-1: a vertex local here).
   std::vector<int> destinations_, sources_;

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "common/error.hpp"
+#include "contact/contact_scale.hpp"
+#include "contact/surface_vertices.hpp"
 #include "kernels/contact_loops.hpp"
 #include "kernels/cpu/host_exec.hpp"
 
@@ -92,47 +94,21 @@ ObstacleContact<Real>::ObstacleContact(const LocalMesh& mesh, const Scene& scene
       h_(static_cast<Real>(scene.time.dt)),
       projected_(4 * scene.obstacles.size(), 0.0) {
   const index_t nv = mesh.num_vertices();
-  // Surface vertices: corners of the faces no other tet shares, on any
-  // sharer (summed through the halo).
-  std::vector<Real> on_surface(nv, Real(0));
-  for (index_t t = 0; t < mesh.num_tets(); ++t)
-    for (int f = 0; f < 4; ++f)
-      if (mesh.surface_faces[t] & (1u << f))
-        for (int a : kTetFaces[f]) on_surface[mesh.tets[4 * static_cast<std::size_t>(t) + a]] = 1;
-  halo.sum(on_surface.data(), 1);
-  for (index_t v = 0; v < nv; ++v)
-    if (on_surface[v] > Real(0)) vertices_.push_back(v);
+  vertices_ = surface_vertices(mesh, halo);
   num_owned_ = static_cast<index_t>(
       std::lower_bound(vertices_.begin(), vertices_.end(), mesh.num_owned) - vertices_.begin());
 
-  // The body's extent (for the default activation distance) over all ranks.
-  const auto& x = mesh.rest_positions;
-  double extent2 = 0;
-  for (int i = 0; i < 3; ++i) {
-    double lo = 1e300, hi = -1e300;
-    for (index_t v = 0; v < nv; ++v) {
-      lo = std::min(lo, x[3 * static_cast<std::size_t>(v) + i]);
-      hi = std::max(hi, x[3 * static_cast<std::size_t>(v) + i]);
-    }
-    const double span = reduction.max_of(hi) + reduction.max_of(-lo);
-    extent2 += span * span;
-  }
-  dh_ = static_cast<Real>(scene.contact.distance > 0 ? scene.contact.distance
-                                                     : 1e-3 * std::sqrt(extent2));
-
-  // Stiffness: what holds the vertex already (inertia and elasticity), so
-  // the barrier's force and the body's are of one scale whatever the units.
+  dh_ = static_cast<Real>(descent::activation_distance(mesh, scene, reduction));
   for (index_t v : vertices_) {
     const Real* d = &rest_diagonal[3 * static_cast<std::size_t>(v)];
-    const Real own = static_cast<Real>(mass[v] * inv_h2) + std::max({d[0], d[1], d[2]});
-    kappa_.push_back(scene.contact.stiffness > 0 ? static_cast<Real>(scene.contact.stiffness)
-                                                 : own);
+    kappa_.push_back(vertex_stiffness(scene, mass[v], inv_h2, d));
     mass_.push_back(mass[v]);
     for (int i = 0; i < 3; ++i) base_.push_back(static_cast<Real>(mass[v] * inv_h2) + d[i]);
   }
 
   // No obstacle may cut the body at its start, nor touch it where the
   // barrier (infinite at a zero gap) would hold it.
+  const auto& x = mesh.rest_positions;
   for (std::size_t k = 0; k < obstacles_.size(); ++k) {
     const ObstacleGeometry<Real> o = obstacle_geometry<Real>(obstacles_[k], 0.0);
     double depth = -1e300;

@@ -145,6 +145,9 @@ struct ContactSpec {
   // Lagged friction's smoothing velocity eps_v (m/s): slower relative
   // sliding is resisted elastically (static friction's creep).
   double smoothing_velocity = 1.0e-3;
+  // Contact of a body with itself (surface pairs within one body), besides
+  // the contact between bodies that a scene of several bodies has.
+  bool self = false;
 };
 
 struct TimeSpec {

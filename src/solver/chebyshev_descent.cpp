@@ -99,6 +99,9 @@ bool ChebyshevDescent<Real>::automatic_multilevel_fits() {
   // Not on a device: the multilevel preconditioner's device path has not run
   // on one yet (docs/multilevel.md).
   if (engine_->on_device()) return false;
+  // Not with contact between bodies: its pairs couple vertices the
+  // hierarchy's operators do not know (docs/contact.md).
+  if (problem_.body_contact()) return false;
   // Not where its operator is singular: a quasi-static body that nothing
   // holds, whose rigid motions cost nothing (an inverted tet or a random box
   // recovering its rest shape: tests/mpi/test_recovery.cpp stalled with it).

@@ -84,6 +84,13 @@ class EngineImpl final : public IterationEngine<Real> {
       contact_.lags = contact_lags_.data();
       contact_.obstacles = contact_geometry_.data();
     }
+    if (problem.body_contact()) {
+      if constexpr (!Exec::kHostMemory)
+        throw InputError(
+            "contact between bodies (several bodies, or contact.self) runs on the cpu backend "
+            "only: use --backend cpu");
+      bodies_ = problem.body_contact();
+    }
     reserve_params(64);
   }
 
@@ -154,9 +161,17 @@ class EngineImpl final : public IterationEngine<Real> {
                                                           rest_.data(), nt_, vd, owned_);
         },
         model_);
-    if (contact_.num_vertices == 0) return {s.value, s.magnitude};
-    const Sum2 c = loops::contact_energy(exec_, kMain, contact_, q, qt_.data());
-    return {s.value + c.value, s.magnitude + c.magnitude};
+    Energy e{s.value, s.magnitude};
+    if (contact_.num_vertices > 0) {
+      const Sum2 c = loops::contact_energy(exec_, kMain, contact_, q, qt_.data());
+      e = {e.value + c.value, e.magnitude + c.magnitude};
+    }
+    if (bodies_) {
+      exec_.sync(kMain);
+      const double pairs = bodies_->local_energy(q);
+      e = {e.value + pairs, e.magnitude + pairs};
+    }
+    return e;
   }
 
   void accept() override { exec_.copy(kMain, checked_.data(), q_[cur_].data(), checked_.bytes()); }
@@ -284,6 +299,10 @@ class EngineImpl final : public IterationEngine<Real> {
     if (contact_.num_vertices > 0)
       loops::add_contact_hessian_product(exec_, kMain, contact_, vertex_data(), q, v,
                                          partial_.data());
+    if (bodies_) {
+      exec_.sync(kMain);
+      bodies_->add_hessian_product(q, v, partial_.data());
+    }
     return loops::hessian_vertex_terms(exec_, kMain, 3 * nv_, 3 * owned_, vertex_data(),
                                        partial_.data(), v, lanczos_[kY].data());
   }
@@ -519,15 +538,23 @@ class EngineImpl final : public IterationEngine<Real> {
   // vertex) and `diag` raised to them (kernels/contact_loops.hpp); nothing
   // without contact.
   void add_contact(const Real* q, int width, Real* diag) {
-    if (contact_.num_vertices == 0) return;
-    loops::add_contact_gradient(exec_, kMain, contact_, vertex_data(), q, partial_.data(), width,
-                                diag);
+    if (contact_.num_vertices > 0)
+      loops::add_contact_gradient(exec_, kMain, contact_, vertex_data(), q, partial_.data(), width,
+                                  diag);
+    if (bodies_) {
+      exec_.sync(kMain);
+      bodies_->add_gradient(q, partial_.data(), width, diag, terms_, mass_.data());
+    }
   }
 
   // No surface vertex's move from q to q_next enters an obstacle.
   void guard(const Real* q, Real* q_next) {
-    if (contact_.num_vertices == 0) return;
-    loops::guard_moves(exec_, kMain, contact_, fixed_.data(), q, q_next);
+    if (contact_.num_vertices > 0)
+      loops::guard_moves(exec_, kMain, contact_, fixed_.data(), q, q_next);
+    if (bodies_) {
+      exec_.sync(kMain);
+      bodies_->guard(q, q_next, fixed_.data());
+    }
   }
 
   // One iteration from buffer `c` (current), (c + 2) % 3 (previous) into
@@ -572,6 +599,9 @@ class EngineImpl final : public IterationEngine<Real> {
   Array<loops::IterationParams<Real>> params_, params_host_;
   // Obstacle contact with contact.method = "energy" (num_vertices 0 without).
   ContactView<Real> contact_;
+  // Contact between bodies (null without; the CPU only): its pairs' terms
+  // and guard, with the ghosts' positions exchanged at each use.
+  BodyContact<Real>* bodies_ = nullptr;
   Array<index_t> contact_vertices_;
   Array<Real> contact_kappa_;
   Array<FrictionLag<Real>> contact_lags_;

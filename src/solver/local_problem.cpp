@@ -153,7 +153,7 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   // curvature is not.
   diagonal_floor_.resize(3 * static_cast<std::size_t>(nv));
   std::vector<Real> rest_diagonal;
-  if (!dynamic || !scene.obstacles.empty()) {
+  if (!dynamic || !scene.obstacles.empty() || has_body_contact(scene)) {
     const std::vector<Real> rest(x.begin(), x.end());
     const Assembled at_rest = elastic_gradient(rest.data(), true);
     rest_diagonal.resize(3 * static_cast<std::size_t>(nv));
@@ -169,6 +169,9 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   if (!scene.obstacles.empty())
     contact_ = std::make_unique<ObstacleContact<Real>>(mesh, scene, halo_, reduction_, mass_,
                                                        rest_diagonal, terms_.inv_h2);
+  if (has_body_contact(scene))
+    body_contact_ = std::make_unique<BodyContact<Real>>(mesh, scene, halo_, reduction_, mass_,
+                                                        rest_diagonal, terms_.inv_h2);
 }
 
 template <class Real>
@@ -316,6 +319,7 @@ Energy LocalProblem<Real>::local_energy(const Real* q, const Real* y, const Real
 template <class Real>
 void LocalProblem<Real>::begin_contact_step(double t, const Real* qt, Real* q) {
   if (contact_) contact_->begin_step(t, qt, q);
+  if (body_contact_) body_contact_->begin_step(qt, q);
 }
 
 template <class Real>

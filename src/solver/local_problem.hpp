@@ -12,6 +12,7 @@
 
 #include "comm/halo.hpp"
 #include "comm/reduction.hpp"
+#include "contact/body_contact.hpp"
 #include "contact/obstacle_contact.hpp"
 #include "io/scene.hpp"
 #include "kernels/conversion.hpp"
@@ -56,9 +57,14 @@ class LocalProblem {
   // result ("projection").
   ObstacleContact<Real>* contact() { return contact_.get(); }
   const ObstacleContact<Real>* contact() const { return contact_.get(); }
+  // Contact between bodies (null without several bodies or contact.self):
+  // pair terms of eps that the Chebyshev engine adds on the CPU.
+  BodyContact<Real>* body_contact() { return body_contact_.get(); }
   // A step from time t (step-start positions qt) with guess q: the
   // obstacles placed for it and q kept outside them (ObstacleContact::
-  // begin_step); nothing without obstacles. Called after the guess is made.
+  // begin_step), the pairs between bodies found and q pulled back so none
+  // closes too far (BodyContact::begin_step); nothing without contact.
+  // Called after the guess is made; collective with contact.
   void begin_contact_step(double t, const Real* qt, Real* q);
   // The step's result q corrected by the projection pass (contact.method =
   // "projection"), before the velocity is formed from it.
@@ -164,6 +170,7 @@ class LocalProblem {
   std::vector<Real> corner_grad_, corner_diag_;  // 12 per tet
   std::vector<Real> partial_;                    // 3 or 6 per vertex: gradient [, diagonal]
   std::unique_ptr<ObstacleContact<Real>> contact_;
+  std::unique_ptr<BodyContact<Real>> body_contact_;
 };
 
 }  // namespace descent

@@ -1160,5 +1160,26 @@ TEST(Scene, BodyErrorsNameTheBodyAndItsKey) {
   expect_has(error_of(box_body, {"mesh.scale=2"}), "[mesh] and [[body]] exclude each other");
 }
 
+TEST(Scene, ContactBetweenBodiesNeedsTheChebyshevBarrierWithJacobi) {
+  const std::string two =
+      "[[body]]\ngenerator = { kind = \"box\" }\n[[body]]\ngenerator = { kind "
+      "= \"box\" }\ntranslate = [2, 0, 0]\n";
+  EXPECT_NO_THROW(parse(two));
+  EXPECT_TRUE(parse(kBoxScene, {"contact.self=true"}).contact.self);
+  EXPECT_FALSE(parse(kBoxScene).contact.self);
+  expect_has(error_of(two + "[solver]\nmethod = \"lbfgs\"\n"),
+             "scene.toml:7: a scene of several bodies ([[body]]) has contact between bodies, which "
+             "solver.method = chebyshev alone evaluates (got lbfgs)");
+  expect_has(error_of(two + "[contact]\nmethod = \"projection\"\n"),
+             "which contact.method = \"energy\" alone handles (got \"projection\")");
+  expect_has(error_of(two + "[solver]\npreconditioner = \"multilevel\"\n"),
+             "solver.preconditioner = \"multilevel\" knows nothing of the contact between bodies");
+  expect_has(error_of(kBoxScene, {"contact.self=true", "solver.method=\"ncg\""}),
+             "contact.self = true has contact between bodies");
+  // One body without self contact: any method, as before.
+  EXPECT_NO_THROW(
+      parse("[[body]]\ngenerator = { kind = \"box\" }\n[solver]\nmethod = \"lbfgs\"\n"));
+}
+
 }  // namespace
 }  // namespace descent
