@@ -1,6 +1,6 @@
 #pragma once
-// Procedural meshes: the paper's double helix and a box. Both are exact
-// functions of their parameters (same parameters, same mesh, bit for bit).
+// Procedural meshes: the paper's double helix, a box and a ball. Each is an exact
+// function of its parameters (same parameters, same mesh, bit for bit).
 // Each comes whole (make_*) or as one rank's MeshSlice (make_*_slice), which
 // no rank builds the whole mesh for.
 #include <mpi.h>
@@ -64,5 +64,20 @@ Mesh make_box(const BoxParams& params);
 // P), from closed forms. Collective over comm; throws as make_box on every
 // rank, with the 32-bit limit on one rank's block instead of the whole box.
 MeshSlice make_box_slice(MPI_Comm comm, const BoxParams& params);
+
+// A ball of `radius` about `centre`: a box of cells^3 cells (six tets each)
+// over a cube, every point moved along its ray from the centre onto the
+// sphere of its cube shell (meshes/ball.cpp), so the surface is the sphere's
+// to the cells' resolution and no cell is cut.
+struct BallParams {
+  int cells = 8;  // along each axis of the cube
+  double radius = 0.5;
+  std::array<double, 3> centre{0.0, 0.0, 0.0};
+};
+
+Mesh make_ball(const BallParams& params);
+
+// Rank r of P's block of the same mesh (the box's slice, moved alike).
+MeshSlice make_ball_slice(MPI_Comm comm, const BallParams& params);
 
 }  // namespace descent

@@ -391,6 +391,8 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
     if (!timing.empty()) inform("%s", timing.c_str());
     const std::string preconditioning = sim.preconditioner_report(true);
     if (!preconditioning.empty()) inform("%s", preconditioning.c_str());
+    const std::string contact = sim.body_contact_report(total_ms);
+    if (!contact.empty()) inform("%s", contact.c_str());
     inform("wrote %s, %s and %s", frames.h5_path().c_str(), frames.xdmf_path().c_str(),
            stats.path().c_str());
   }

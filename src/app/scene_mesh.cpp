@@ -14,8 +14,9 @@ namespace descent {
 namespace {
 
 void check_generator(const MeshSpec& spec) {
-  if (spec.generator != "double_helix" && spec.generator != "box")
-    throw InputError("mesh.generator '" + spec.generator + "' is not one of: double_helix, box");
+  if (spec.generator != "double_helix" && spec.generator != "box" && spec.generator != "ball")
+    throw InputError("mesh.generator '" + spec.generator +
+                     "' is not one of: double_helix, box, ball");
 }
 
 void scale(std::vector<double>& positions, double factor) {
@@ -116,7 +117,9 @@ Mesh build_scene_mesh(const MeshSpec& spec, MeshReadReport* report) {
     mesh = read_mesh(spec.file, report);
   } else {
     check_generator(spec);
-    mesh = spec.generator == "double_helix" ? make_double_helix(spec.helix) : make_box(spec.box);
+    mesh = spec.generator == "double_helix" ? make_double_helix(spec.helix)
+           : spec.generator == "ball"       ? make_ball(spec.ball)
+                                            : make_box(spec.box);
   }
   scale(mesh.positions, spec.scale);
   return mesh;
@@ -129,6 +132,7 @@ MeshSlice build_scene_mesh_slice(MPI_Comm comm, const MeshSpec& spec, MeshReadRe
   } else {
     check_generator(spec);
     slice = spec.generator == "double_helix" ? make_double_helix_slice(comm, spec.helix)
+            : spec.generator == "ball"       ? make_ball_slice(comm, spec.ball)
                                              : make_box_slice(comm, spec.box);
   }
   scale(slice.positions, spec.scale);

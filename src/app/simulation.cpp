@@ -1,6 +1,7 @@
 #include "app/simulation.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "comm/mpi_check.hpp"
 #include "common/error.hpp"
@@ -271,6 +272,21 @@ std::vector<double> Simulation<Real>::measure() {
     values.push_back(s[7]);
   }
   return values;
+}
+
+template <class Real>
+std::string Simulation<Real>::body_contact_report(double step_ms) {
+  const BodyContact<Real>* contact = problem_.body_contact();
+  if (!contact) return {};
+  const auto& s = contact->seconds();
+  const double total = s.search + s.ghosts + s.terms + s.guard;
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "contact between bodies %.1f%% of step time on rank 0 (%.1f ms of %.1f ms): pair "
+                "search %.1f ms, ghosts %.1f ms, terms %.1f ms, guard %.1f ms",
+                step_ms > 0 ? 100 * 1e3 * total / step_ms : 0.0, 1e3 * total, step_ms,
+                1e3 * s.search, 1e3 * s.ghosts, 1e3 * s.terms, 1e3 * s.guard);
+  return text;
 }
 
 template <class Real>

@@ -66,6 +66,9 @@ class Simulation {
   std::string preconditioner_report(bool used) const {
     return descent::preconditioner_report(*solver_, local_.num_tets(), used);
   }
+  // Where contact between bodies spent its time on this rank (pair search,
+  // ghosts, terms, guard) as a share of `step_ms`; empty without it.
+  std::string body_contact_report(double step_ms);
   // Device memory of a device stepper, per tet and per vertex; empty on the CPU.
   std::string device_memory_report() const {
     return descent::device_memory_report(*solver_, local_.num_tets(), local_.num_vertices());

@@ -19,6 +19,21 @@ constexpr double kMoveFraction = 0.5 * (1.0 - kGapKept<double>);
 
 double length(const double* d) { return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]); }
 
+// Adds the wall time of its scope to a counter.
+class Timed {
+ public:
+  explicit Timed(double& seconds) : seconds_(seconds) {}
+  ~Timed() {
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  Timed(const Timed&) = delete;
+  Timed& operator=(const Timed&) = delete;
+
+ private:
+  double& seconds_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
 }  // namespace
 
 template <class Real>
@@ -51,11 +66,13 @@ BodyContact<Real>::BodyContact(const LocalMesh& mesh, const Scene& scene, Halo<R
   reduction.sum_in_place(edges);
   const double mean_edge = edges[1] > 0 ? edges[0] / edges[1] : 0.0;
   eps_ = 1e-3 * std::pow(mean_edge, 4);
+  cap_ = dh_ + 0.5 * mean_edge;
 
   // Bodies may start closer than dh, never touching.
   std::vector<Real> rest(x.begin(), x.end());
   halo_.rebuild(rest.data(), dh_, kappa_);
   pairs_ = find_contact_pairs(halo_, dh_, self_);
+  track_from_here();
   const double least = reduction.max_of(-local_least_distance(rest.data()));
   if (-least <= 0)
     throw InputError(
@@ -65,34 +82,47 @@ BodyContact<Real>::BodyContact(const LocalMesh& mesh, const Scene& scene, Halo<R
 }
 
 template <class Real>
-void BodyContact<Real>::begin_step(const Real* qt, Real* q) {
+void BodyContact<Real>::pull_back(const Real* qt, Real* q) {
+  const Timed timed(seconds_.search);
   const index_t nv = mesh_.num_vertices();
-  // D: the guess's largest move (one allreduce); the reach covers the step.
-  double moved = 0;
+  // A pair's gap closes by at most the largest difference between the
+  // moves of a vertex of one side and one of the other (its closest points
+  // move by weighted means of them): nothing for bodies moving alike. That
+  // difference is at most 2 S, S the largest distance of a move from the
+  // middle of all moves' box (two allreduces), so only pairs within
+  // dh + 4 S of each other at q_t can close by half their gap.
+  std::array<double, 6> box{-1e300, -1e300, -1e300, -1e300, -1e300, -1e300};
+  for (index_t v = 0; v < nv; ++v)
+    for (int i = 0; i < 3; ++i) {
+      const double d = static_cast<double>(q[3 * v + i] - qt[3 * v + i]);
+      box[i] = std::max(box[i], d);
+      box[3 + i] = std::max(box[3 + i], -d);
+    }
+  for (double& b : box) b = reduction_.max_of(b);
+  const double middle[3] = {0.5 * (box[0] - box[3]), 0.5 * (box[1] - box[4]),
+                            0.5 * (box[2] - box[5])};
+  double spread = 0;
   for (index_t v = 0; v < nv; ++v) {
-    const double d[3] = {static_cast<double>(q[3 * v] - qt[3 * v]),
-                         static_cast<double>(q[3 * v + 1] - qt[3 * v + 1]),
-                         static_cast<double>(q[3 * v + 2] - qt[3 * v + 2])};
-    moved = std::max(moved, length(d));
+    double d[3];
+    for (int i = 0; i < 3; ++i)
+      d[i] = static_cast<double>(q[3 * v + i] - qt[3 * v + i]) - middle[i];
+    spread = std::max(spread, length(d));
   }
-  moved = reduction_.max_of(moved);
-  cap_ = dh_ + moved;
-  const double reach = dh_ + 2 * (moved + cap_);
+  spread = reduction_.max_of(spread);
+  const double reach = dh_ + 4 * spread;
   halo_.rebuild(qt, reach, kappa_);
   pairs_ = find_contact_pairs(halo_, reach, self_);
 
-  // The guess pulled back: no pair closes by more than half its gap at q_t
-  // (its closing is at most the sum of its two sides' largest moves).
   std::vector<Real> guess;
   halo_.gather(q, guess);
   const std::vector<Real>& start = halo_.positions();
-  std::vector<double> move(halo_.num_vertices());
-  for (index_t c = 0; c < halo_.num_vertices(); ++c) {
-    const double d[3] = {static_cast<double>(guess[3 * c] - start[3 * c]),
-                         static_cast<double>(guess[3 * c + 1] - start[3 * c + 1]),
-                         static_cast<double>(guess[3 * c + 2] - start[3 * c + 2])};
-    move[c] = length(d);
-  }
+  auto move_difference = [&](index_t a, index_t b) {
+    double d[3];
+    for (int i = 0; i < 3; ++i)
+      d[i] = static_cast<double>((guess[3 * a + i] - start[3 * a + i]) -
+                                 (guess[3 * b + i] - start[3 * b + i]));
+    return length(d);
+  };
   double fraction = 1;
   Real x[12];
   for (int kind = 0; kind < 2; ++kind)
@@ -101,64 +131,116 @@ void BodyContact<Real>::begin_step(const Real* qt, Real* q) {
         for (int i = 0; i < 3; ++i) x[3 * k + i] = start[3 * static_cast<std::size_t>(v[k]) + i];
       const double d = std::sqrt(static_cast<double>(
           kind == 0 ? point_triangle_distance(x, false).d2 : edge_edge_distance(x, false).d2));
-      // Side A: the vertex, or the first edge; side B the rest.
-      const double a = kind == 0 ? move[v[0]] : std::max(move[v[0]], move[v[1]]);
-      const double b = kind == 0 ? std::max({move[v[1]], move[v[2]], move[v[3]]})
-                                 : std::max(move[v[2]], move[v[3]]);
-      if (a + b > 0.5 * d) fraction = std::min(fraction, 0.5 * d / (a + b));
+      // Sides: the vertex and the triangle, or the two edges.
+      const int side = kind == 0 ? 1 : 2;
+      double closing = 0;
+      for (int i = 0; i < side; ++i)
+        for (int j = side; j < 4; ++j) closing = std::max(closing, move_difference(v[i], v[j]));
+      if (closing > 0.5 * d) fraction = std::min(fraction, 0.5 * d / closing);
     }
   fraction = -reduction_.max_of(-fraction);
   if (fraction < 1)
     for (std::size_t k = 0; k < 3 * static_cast<std::size_t>(nv); ++k)
       q[k] = qt[k] + static_cast<Real>(fraction) * (q[k] - qt[k]);
-  halo_.update_ghosts(q);
+}
+
+template <class Real>
+void BodyContact<Real>::rebuild_here(const Real* q) {
+  const Timed timed(seconds_.search);
+  halo_.rebuild(q, dh_ + 2 * cap_, kappa_);
+  pairs_ = find_contact_pairs(halo_, dh_ + 2 * cap_, self_);
+  track_from_here();
+}
+
+template <class Real>
+bool BodyContact<Real>::needs_rebuild() const {
+  const std::vector<Real>& p = halo_.positions();
+  for (index_t c = 0; c < halo_.num_local(); ++c) {
+    double d[3];
+    for (int i = 0; i < 3; ++i) d[i] = static_cast<double>(p[3 * c + i] - anchor_[3 * c + i]);
+    if (length(d) > 0.5 * cap_) return true;
+  }
+  return false;
+}
+
+template <class Real>
+void BodyContact<Real>::track_from_here() {
   anchor_ = halo_.positions();
+  last_ = anchor_;
   nearest_.assign(halo_.num_vertices(), Real(0));
+  travel_.assign(halo_.num_vertices(), 0.0);
+  const std::size_t np = pairs_.vertex_triangle.size() + pairs_.edge_edge.size();
+  checked_distance_.assign(np, 0.0);
+  checked_travel_.assign(np, -1.0);  // never evaluated
 }
 
 template <class Real>
 template <class Visit>
-void BodyContact<Real>::for_each_pair(Visit&& visit) const {
+void BodyContact<Real>::for_each_pair(bool skip_far, Visit&& visit) {
   const std::vector<Real>& p = halo_.positions();
   const std::vector<Real>& kappa = halo_.carried();
   Real x[12];
+  std::size_t index = 0;
   for (int kind = 0; kind < 2; ++kind)
     for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
+      const std::size_t pair = index++;
+      double travel = 0;
+      for (int j = 0; j < 4; ++j) travel += travel_[v[j]];
+      if (skip_far && checked_travel_[pair] >= 0) {
+        // Its distance has fallen by at most its vertices' travel since it
+        // was evaluated: still beyond dh, it has no term.
+        const double bound = checked_distance_[pair] - (travel - checked_travel_[pair]);
+        if (bound > dh_) {
+          for (index_t c : v)
+            if (c < halo_.num_local())
+              nearest_[c] = std::min(nearest_[c], static_cast<Real>(bound));
+          continue;
+        }
+      }
       Real k = 0;
       for (int j = 0; j < 4; ++j) {
         k += kappa[v[j]] / Real(4);
         for (int i = 0; i < 3; ++i) x[3 * j + i] = p[3 * static_cast<std::size_t>(v[j]) + i];
       }
-      visit(kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge, v, x, k);
+      const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
+      const double distance = visit(pair_kind, v, x, k);
+      if (distance >= 0) {
+        checked_distance_[pair] = distance;
+        checked_travel_[pair] = travel;
+      }
     }
 }
 
 template <class Real>
 void BodyContact<Real>::add_gradient(const Real* q, Real* partial, int width, Real* diag,
                                      const VertexTerms<Real>& terms, const Real* mass) {
-  halo_.update_ghosts(q);
+  update_ghosts(q);
+  const Timed timed(seconds_.terms);
   const index_t local = halo_.num_local();
   const auto& local_vertex = halo_.local_vertex();
   std::vector<Real> contact_diag(3 * static_cast<std::size_t>(local), Real(0));
   std::fill(nearest_.begin(), nearest_.end(), Real(INFINITY));
   const Real dh = static_cast<Real>(dh_), eps = static_cast<Real>(eps_);
-  for_each_pair([&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real kappa) {
-    const PairTerms<Real> t = pair_barrier(kind, x, kappa, dh, eps, PairHessian::psd);
-    for (int j = 0; j < 4; ++j) {
-      const index_t c = v[j];
-      if (c >= local) continue;
-      nearest_[c] = std::min(nearest_[c], t.distance);
-      if (t.energy == Real(0)) continue;
-      Real* out = partial + width * static_cast<std::size_t>(local_vertex[c]);
-      for (int i = 0; i < 3; ++i) {
-        out[i] += t.grad[3 * j + i];
-        // Gershgorin: the row's absolute sum dominates the pair's block.
-        Real row = 0;
-        for (int col = 0; col < 12; ++col) row += std::abs(t.hess[12 * (3 * j + i) + col]);
-        contact_diag[3 * c + i] += row;
-      }
-    }
-  });
+  for_each_pair(true,
+                [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real kappa) {
+                  const PairTerms<Real> t = pair_barrier(kind, x, kappa, dh, eps, PairHessian::psd);
+                  for (int j = 0; j < 4; ++j) {
+                    const index_t c = v[j];
+                    if (c >= local) continue;
+                    nearest_[c] = std::min(nearest_[c], t.distance);
+                    if (t.energy == Real(0)) continue;
+                    Real* out = partial + width * static_cast<std::size_t>(local_vertex[c]);
+                    for (int i = 0; i < 3; ++i) {
+                      out[i] += t.grad[3 * j + i];
+                      // Gershgorin: the row's absolute sum dominates the pair's block.
+                      Real row = 0;
+                      for (int col = 0; col < 12; ++col)
+                        row += std::abs(t.hess[12 * (3 * j + i) + col]);
+                      contact_diag[3 * c + i] += row;
+                    }
+                  }
+                  return static_cast<double>(t.distance);
+                });
   for (index_t c = 0; c < local; ++c) {
     const index_t v = local_vertex[c];
     for (int i = 0; i < 3; ++i) {
@@ -174,42 +256,52 @@ void BodyContact<Real>::add_gradient(const Real* q, Real* partial, int width, Re
 
 template <class Real>
 double BodyContact<Real>::local_energy(const Real* q) {
-  halo_.update_ghosts(q);
+  update_ghosts(q);
+  const Timed timed(seconds_.terms);
   double sum = 0;
   const Real dh = static_cast<Real>(dh_), eps = static_cast<Real>(eps_);
-  for_each_pair([&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real kappa) {
+  for_each_pair(true, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x,
+                          Real kappa) {
     if (counted_here(halo_, v))
       sum += static_cast<double>(pair_barrier(kind, x, kappa, dh, eps, PairHessian::none).energy);
+    return -1.0;
   });
   return sum;
 }
 
 template <class Real>
 void BodyContact<Real>::add_hessian_product(const Real* q, const Real* v, Real* out) {
-  halo_.update_ghosts(q);
-  halo_.gather(v, gathered_);
+  update_ghosts(q);
+  {
+    const Timed timed(seconds_.ghosts);
+    halo_.gather(v, gathered_);
+  }
+  const Timed timed(seconds_.terms);
   const index_t local = halo_.num_local();
   const Real dh = static_cast<Real>(dh_), eps = static_cast<Real>(eps_);
-  for_each_pair([&](PairKind kind, const std::array<index_t, 4>& c, const Real* x, Real kappa) {
-    const PairTerms<Real> t = pair_barrier(kind, x, kappa, dh, eps, PairHessian::exact);
-    if (t.energy == Real(0)) return;
-    for (int j = 0; j < 4; ++j) {
-      if (c[j] >= local) continue;
-      Real* o = out + 3 * static_cast<std::size_t>(halo_.local_vertex()[c[j]]);
-      for (int i = 0; i < 3; ++i) {
-        Real s = 0;
-        for (int l = 0; l < 4; ++l)
-          for (int m = 0; m < 3; ++m)
-            s += t.hess[12 * (3 * j + i) + 3 * l + m] *
-                 gathered_[3 * static_cast<std::size_t>(c[l]) + m];
-        o[i] += s;
-      }
-    }
-  });
+  for_each_pair(
+      true, [&](PairKind kind, const std::array<index_t, 4>& c, const Real* x, Real kappa) {
+        const PairTerms<Real> t = pair_barrier(kind, x, kappa, dh, eps, PairHessian::exact);
+        if (t.energy == Real(0)) return -1.0;
+        for (int j = 0; j < 4; ++j) {
+          if (c[j] >= local) continue;
+          Real* o = out + 3 * static_cast<std::size_t>(halo_.local_vertex()[c[j]]);
+          for (int i = 0; i < 3; ++i) {
+            Real s = 0;
+            for (int l = 0; l < 4; ++l)
+              for (int m = 0; m < 3; ++m)
+                s += t.hess[12 * (3 * j + i) + 3 * l + m] *
+                     gathered_[3 * static_cast<std::size_t>(c[l]) + m];
+            o[i] += s;
+          }
+        }
+        return -1.0;
+      });
 }
 
 template <class Real>
 void BodyContact<Real>::guard(const Real* q, Real* q_next, const std::uint8_t* fixed) const {
+  const Timed timed(seconds_.guard);
   for (index_t c = 0; c < halo_.num_local(); ++c) {
     const std::size_t v = static_cast<std::size_t>(halo_.local_vertex()[c]);
     if (fixed[v]) continue;  // held vertices follow their motion
@@ -231,28 +323,46 @@ void BodyContact<Real>::guard(const Real* q, Real* q_next, const std::uint8_t* f
 
 template <class Real>
 double BodyContact<Real>::local_active_pairs(const Real* q) {
-  halo_.update_ghosts(q);
+  update_ghosts(q);
   double count = 0;
-  for_each_pair([&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real) {
+  for_each_pair(false, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real) {
     const PairDistance<Real> d = kind == PairKind::vertex_triangle
                                      ? point_triangle_distance(x, false)
                                      : edge_edge_distance(x, false);
     if (counted_here(halo_, v) && std::sqrt(static_cast<double>(d.d2)) < dh_) count += 1;
+    return -1.0;
   });
   return count;
 }
 
 template <class Real>
 double BodyContact<Real>::local_least_distance(const Real* q) {
-  halo_.update_ghosts(q);
+  update_ghosts(q);
   double least = 1e300;
-  for_each_pair([&](PairKind kind, const std::array<index_t, 4>&, const Real* x, Real) {
+  for_each_pair(false, [&](PairKind kind, const std::array<index_t, 4>&, const Real* x, Real) {
     const PairDistance<Real> d = kind == PairKind::vertex_triangle
                                      ? point_triangle_distance(x, false)
                                      : edge_edge_distance(x, false);
     least = std::min(least, std::sqrt(static_cast<double>(d.d2)));
+    return -1.0;
   });
   return least;
+}
+
+template <class Real>
+void BodyContact<Real>::update_ghosts(const Real* q) {
+  const Timed timed(seconds_.ghosts);
+  halo_.update_ghosts(q);
+  // Each contact vertex's path length since the pairs were found.
+  const std::vector<Real>& p = halo_.positions();
+  for (std::size_t c = 0; c < travel_.size(); ++c) {
+    double d[3];
+    for (int i = 0; i < 3; ++i) {
+      d[i] = static_cast<double>(p[3 * c + i] - last_[3 * c + i]);
+      last_[3 * c + i] = p[3 * c + i];
+    }
+    travel_[c] += length(d);
+  }
 }
 
 template class BodyContact<double>;

@@ -4,18 +4,21 @@
 // (kernels/pair_contact.hpp) over the contact halo (contact_halo.hpp),
 // as part of eps for the Chebyshev iteration on the CPU.
 //
-// Per step: the pair set is rebuilt at the step start q_t (one allgather
-// and one all-to-all) to a reach that covers every pair the step can bring
-// within dh: dh + 2 (D + cap), D the guess's largest move from q_t and cap
-// the most any surface vertex may then drift from the guess (dh + D), which
-// the guard enforces. The guess is pulled back along q - q_t so that no
-// pair closes by more than half its gap at q_t (one allreduce). Per
-// iteration: the ghosts' positions (neighbour messages only), the terms of
-// the pairs around this rank's vertices (each sharer adds the same, as for
-// obstacles), and the guard: every surface vertex moves at most
-// 0.4 times its nearest pair's distance, so no pair closes by more than
-// 0.8 of its gap in one iteration, and no iterate crosses.
+// The pairs are found (one allgather and one all-to-all) to a reach of
+// dh + 2 cap about where the surface vertices are, and the guard keeps
+// every surface vertex within cap of that place (cap: dh plus half the
+// mean surface edge), so no pair outside the set comes within dh. They
+// are found again at each step's start, and after an accepted energy check
+// where a vertex has drifted cap/2 (the flag costs one allreduce per check).
+// At the step's start the guess is first pulled back along q - q_t so that
+// no pair closes by more than half its gap, bounding each pair's closing by
+// the largest difference between its two sides' moves (pull_back()). Per iteration: the ghosts'
+// positions (neighbour messages only), the terms of the pairs around this rank's vertices (each
+// sharer adds the same, as for obstacles), and the guard: every surface vertex moves at most 0.4
+// times its nearest pair's distance, so no pair closes by more than 0.8 of its gap in one
+// iteration, and no iterate crosses.
 #include <array>
+#include <chrono>
 #include <vector>
 
 #include "comm/halo.hpp"
@@ -43,9 +46,15 @@ class BodyContact {
               EnergyReduction& reduction, const std::vector<Real>& mass,
               const std::vector<Real>& rest_diagonal, double inv_h2);
 
-  // Collective: the pairs for the step from qt, and the guess q (3 per
-  // local vertex) pulled back as the header says.
-  void begin_step(const Real* qt, Real* q);
+  // Collective: the guess q (3 per local vertex) for the step from qt
+  // pulled back as the header says. A step then calls rebuild_here(q).
+  void pull_back(const Real* qt, Real* q);
+  // Collective: the pairs about q (3 per local vertex), the guard's anchor
+  // there.
+  void rebuild_here(const Real* q);
+  // Whether a local surface vertex has drifted cap/2 from where the pairs
+  // were found (at the positions of the last evaluation).
+  bool needs_rebuild() const;
 
   // At q: the gradient of the pairs around this rank's vertices into
   // `partial` (`width` per vertex) and, with width 6, the dominant diagonal
@@ -64,15 +73,32 @@ class BodyContact {
   void guard(const Real* q, Real* q_next, const std::uint8_t* fixed) const;
 
   double activation_distance() const { return dh_; }
+
+  // Wall seconds on this rank so far, by part: the pair search with its
+  // rebuild of the halo and the guess's pull-back (search), the ghosts'
+  // positions (ghosts), the pairs' terms (terms), the guard (guard).
+  struct Seconds {
+    double search = 0, ghosts = 0, terms = 0, guard = 0;
+  };
+  const Seconds& seconds() const { return seconds_; }
   // For the stats, at q: this rank's counted pairs within dh, and the least
   // distance of its pairs (1e300 without pairs).
   double local_active_pairs(const Real* q);
   double local_least_distance(const Real* q);
 
  private:
-  // Each pair's barrier terms at the halo's current positions.
+  // The guard's anchor and the pairs' skip bounds from the halo's positions
+  // now (after the pairs are found).
+  void track_from_here();
+  // The halo's positions at q, timed.
+  void update_ghosts(const Real* q);
+  // visit(kind, vertices, x, kappa) for each pair at the halo's current
+  // positions, returning its distance (or < 0: not evaluated). With
+  // skip_far, a pair whose last distance less its vertices' travel since
+  // then exceeds dh is not visited (it has no term), its bound only
+  // lowering its local vertices' nearest distance.
   template <class Visit>
-  void for_each_pair(Visit&& visit) const;
+  void for_each_pair(bool skip_far, Visit&& visit);
 
   const LocalMesh& mesh_;
   EnergyReduction& reduction_;
@@ -84,6 +110,13 @@ class BodyContact {
   std::vector<Real> anchor_;   // per contact vertex: the guess (local ones used)
   std::vector<Real> nearest_;  // per contact vertex: its nearest pair's distance
   std::vector<Real> gathered_;
+  // Per contact vertex: path length since begin_step, and where it was.
+  std::vector<double> travel_;
+  std::vector<Real> last_;
+  // Per pair (vertex-triangle, then edge-edge): its distance when last
+  // evaluated and its vertices' summed travel then (< 0: not yet).
+  std::vector<double> checked_distance_, checked_travel_;
+  mutable Seconds seconds_;
 };
 
 }  // namespace descent

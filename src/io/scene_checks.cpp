@@ -78,10 +78,11 @@ struct MeshKeys {
   std::string generator;  // "mesh.generator"
   std::string helix;      // "mesh.helix": its keys are helix + ".resolution", ...
   std::string box;        // "mesh.box"
+  std::string ball;       // "mesh.ball"
 };
 
 MeshKeys scene_mesh_keys() {
-  return {"the scene", "mesh", "mesh.file", "mesh.generator", "mesh.helix", "mesh.box"};
+  return {"the scene", "mesh", "mesh.file", "mesh.generator", "mesh.helix", "mesh.box", "mesh.ball"};
 }
 
 // `body` names the table: "body.0".
@@ -91,7 +92,8 @@ MeshKeys body_mesh_keys(const std::string& body) {
           body + ".file",
           body + ".generator.kind",
           body + ".generator.helix",
-          body + ".generator.box"};
+          body + ".generator.box",
+          body + ".generator.ball"};
 }
 
 void check_helix(const SceneDocument& doc, const DoubleHelixParams& helix, const MeshKeys& keys) {
@@ -113,9 +115,16 @@ void check_box(const SceneDocument& doc, const BoxParams& box, const MeshKeys& k
           box.tets_per_cell);
 }
 
+void check_ball(const SceneDocument& doc, const BallParams& ball, const MeshKeys& keys) {
+  const std::string at = keys.ball + ".";
+  require(doc, ball.cells >= 1 && ball.cells <= 1000, at + "cells", "in [1, 1000]", ball.cells);
+  require(doc, ball.radius > 0, at + "radius", "> 0", ball.radius);
+}
+
 void check_generator_values(const SceneDocument& doc, const MeshSpec& mesh, const MeshKeys& keys) {
   if (mesh.generator == "double_helix") check_helix(doc, mesh.helix, keys);
   if (mesh.generator == "box") check_box(doc, mesh.box, keys);
+  if (mesh.generator == "ball") check_ball(doc, mesh.ball, keys);
 }
 
 // Exactly one of file and generator, a known generator, and the parameter
@@ -136,7 +145,8 @@ void check_mesh_keys(const SceneDocument& doc, const MeshSpec& mesh, const MeshK
   if (has_file && mesh.file.empty()) {
     throw InputError(detail::concat(doc.where(keys.file), ": ", keys.file, " must not be empty"));
   }
-  if (has_generator) require_one_of(doc, keys.generator, mesh.generator, {"double_helix", "box"});
+  if (has_generator)
+    require_one_of(doc, keys.generator, mesh.generator, {"double_helix", "box", "ball"});
   // A parameter table of the other generator would be silently ignored.
   const std::string mesh_from =
       has_file ? detail::concat("the mesh is read from ", keys.file)
@@ -148,6 +158,10 @@ void check_mesh_keys(const SceneDocument& doc, const MeshSpec& mesh, const MeshK
   if (doc.has(keys.box) && mesh.generator != "box") {
     throw InputError(detail::concat(doc.where(keys.box), ": ", keys.box, " goes with ",
                                     keys.generator, " = \"box\", but ", mesh_from));
+  }
+  if (doc.has(keys.ball) && mesh.generator != "ball") {
+    throw InputError(detail::concat(doc.where(keys.ball), ": ", keys.ball, " goes with ",
+                                    keys.generator, " = \"ball\", but ", mesh_from));
   }
 }
 

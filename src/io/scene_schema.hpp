@@ -36,6 +36,9 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("mesh.box.size", mesh.box.size);
   visit("mesh.box.origin", mesh.box.origin);
   visit("mesh.box.tets_per_cell", mesh.box.tets_per_cell);
+  visit("mesh.ball.cells", mesh.ball.cells);
+  visit("mesh.ball.radius", mesh.ball.radius);
+  visit("mesh.ball.centre", mesh.ball.centre);
 
   visit("material.model", scene.material.model);
   visit("material.young", scene.material.young);
@@ -169,6 +172,9 @@ void visit_entry_keys(Body& body, Visit&& visit) {
   visit("generator.box.size", mesh.box.size);
   visit("generator.box.origin", mesh.box.origin);
   visit("generator.box.tets_per_cell", mesh.box.tets_per_cell);
+  visit("generator.ball.cells", mesh.ball.cells);
+  visit("generator.ball.radius", mesh.ball.radius);
+  visit("generator.ball.centre", mesh.ball.centre);
   visit("scale", body.scale);
   visit("rotate.axis", body.rotate_axis);
   visit("rotate.degrees", body.rotate_degrees);

@@ -73,6 +73,9 @@ class IterationEngine {
   virtual void accept() = 0;
   // current, previous <- checked (Chebyshev restarts from there).
   virtual void rollback() = 0;
+  // Collective with contact between bodies: its pairs found again about the
+  // current iterate (BodyContact::rebuild_here); nothing without.
+  virtual void refresh_contact_pairs() = 0;
   // The current (or checked) iterate into staging().q.
   virtual void download(bool checked) = 0;
   virtual void download_interpolants(Real* interpolants) = 0;

@@ -176,6 +176,12 @@ class EngineImpl final : public IterationEngine<Real> {
 
   void accept() override { exec_.copy(kMain, checked_.data(), q_[cur_].data(), checked_.bytes()); }
 
+  void refresh_contact_pairs() override {
+    if (!bodies_) return;
+    exec_.sync(kMain);
+    bodies_->rebuild_here(q_[cur_].data());
+  }
+
   void rollback() override {
     exec_.copy(kMain, q_[cur_].data(), checked_.data(), checked_.bytes());
     exec_.copy(kMain, q_[prev_index()].data(), checked_.data(), checked_.bytes());

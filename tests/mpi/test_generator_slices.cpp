@@ -165,6 +165,18 @@ TEST(BoxSlice, MatchesTheSerialBox) {
     }
 }
 
+TEST(BallSlice, MatchesTheSerialBall) {
+  for (int cells : {1, 3, 6}) {
+    BallParams params;
+    params.cells = cells;
+    params.radius = 0.7;
+    params.centre = {0.5, -1, 2};
+    SCOPED_TRACE(make_ball(params).source);
+    expect_same_slice(make_ball_slice(MPI_COMM_WORLD, params),
+                      slice_of(make_ball(params), world_rank(), world_size()));
+  }
+}
+
 // ---------------------------------------------------------------- bad parameters
 
 // The message of the InputError `generate` throws, or "" when it throws none.

@@ -464,5 +464,46 @@ TEST(DoubleHelixParams, UnknownPresetListsTheValidNames) {
   }
 }
 
+// ---------------------------------------------------------------- ball
+
+TEST(Ball, EveryTetPositiveVolumeNearTheSpheresAndSurfaceOnIt) {
+  for (int cells : {1, 2, 3, 4, 8, 16}) {
+    BallParams params;
+    params.cells = cells;
+    params.radius = 0.3;
+    params.centre = {1, -2, 0.5};
+    const Mesh mesh = make_ball(params);
+    SCOPED_TRACE(mesh.source);
+    EXPECT_EQ(mesh.num_tets(), 6 * cells * cells * cells);
+    expect_positive_volumes(mesh);
+    // Every vertex within the sphere, the cube's faces on it.
+    index_t on_sphere = 0;
+    for (index_t v = 0; v < mesh.num_vertices(); ++v) {
+      const auto x = vertex(mesh, v);
+      const double r = std::hypot(x[0] - 1, x[1] + 2, x[2] - 0.5);
+      EXPECT_LE(r, 0.3 * (1 + 1e-12));
+      on_sphere += std::abs(r - 0.3) < 1e-12;
+    }
+    const index_t n = cells + 1;
+    EXPECT_EQ(on_sphere, n * n * n - (n - 2) * (n - 2) * (n - 2));
+    // The polyhedron inside the sphere: its volume approaches the ball's
+    // as the cells shrink (within 5% from 8 cells on).
+    const double ball = 4.0 / 3.0 * kPi * 0.3 * 0.3 * 0.3;
+    EXPECT_LT(total_volume(mesh), ball);
+    if (cells >= 8) {
+      EXPECT_NEAR(total_volume(mesh), ball, 0.05 * ball);
+    }
+  }
+}
+
+TEST(Ball, BadValuesThrowInputErrorNamingTheParameter) {
+  BallParams params;
+  params.cells = 0;
+  EXPECT_THROW(make_ball(params), InputError);
+  params.cells = 4;
+  params.radius = -1;
+  EXPECT_THROW(make_ball(params), InputError);
+}
+
 }  // namespace
 }  // namespace descent

@@ -725,7 +725,7 @@ TEST(Scene, ChoicesListTheValidNames) {
   expect_has(error_of(std::string(kBoxScene) + "[solver]\ninit = \"guess\"\n"),
              "solver.init must be one of \"constant_acceleration\", \"position\", \"velocity\"");
   expect_has(error_of("[mesh]\ngenerator = \"sphere\"\n"),
-             "scene.toml:2: mesh.generator must be one of \"double_helix\", \"box\", got "
+             "scene.toml:2: mesh.generator must be one of \"double_helix\", \"box\", \"ball\", got "
              "\"sphere\"");
 }
 
@@ -1104,6 +1104,15 @@ TEST(Scene, BodiesReadEveryKey) {
   EXPECT_EQ(ball.angular_velocity, (Vec3{0, 0, 3}));
   EXPECT_EQ(ball.young, 2e6);
   EXPECT_EQ(ball.density, 500.0);
+  EXPECT_EQ(parse("[[body]]\ngenerator = { kind = \"ball\", ball = { cells = 5, radius = 0.2, "
+                  "centre = [1, 2, 3] } }\n")
+                .bodies[0]
+                .mesh.ball.radius,
+            0.2);
+  expect_has(error_of("[[body]]\ngenerator = { kind = \"ball\", ball = { radius = 0 } }\n"),
+             "body.0.generator.ball.radius must be > 0, got 0");
+  expect_has(error_of("[[body]]\ngenerator = { kind = \"box\", ball = { radius = 1 } }\n"),
+             "body.0.generator.ball goes with body.0.generator.kind = \"ball\"");
   const Body& helix = scene.bodies[1];
   EXPECT_EQ(helix.mesh.generator, "double_helix");
   EXPECT_EQ(helix.mesh.helix.resolution, double_helix_preset_resolution("41k"));
@@ -1131,8 +1140,9 @@ TEST(Scene, BodyErrorsNameTheBodyAndItsKey) {
              "\"box\") or body.0.file");
   expect_has(error_of(box_body + "file = \"a.msh\"\n"),
              "body.0.file and body.0.generator.kind exclude each other");
-  expect_has(error_of("[[body]]\ngenerator = { kind = \"cone\" }\n"),
-             "body.0.generator.kind must be one of \"double_helix\", \"box\", got \"cone\"");
+  expect_has(
+      error_of("[[body]]\ngenerator = { kind = \"cone\" }\n"),
+      "body.0.generator.kind must be one of \"double_helix\", \"box\", \"ball\", got \"cone\"");
   const std::string box_table = "[[body]]\n[body.generator]\nkind = \"box\"\n";
   expect_has(error_of(box_table + "helix.turns = 3\n"),
              "body.0.generator.helix goes with body.0.generator.kind = \"double_helix\", but "
