@@ -40,7 +40,12 @@ template <class Real>
 BodyContact<Real>::BodyContact(const LocalMesh& mesh, const Scene& scene, Halo<Real>& halo,
                                EnergyReduction& reduction, const std::vector<Real>& mass,
                                const std::vector<Real>& rest_diagonal, double inv_h2)
-    : mesh_(mesh), reduction_(reduction), halo_(mesh, halo), self_(scene.contact.self) {
+    : mesh_(mesh),
+      reduction_(reduction),
+      halo_(mesh, halo),
+      self_(scene.contact.self),
+      mu_(scene.contact.friction),
+      eps_h_(scene.contact.smoothing_velocity * scene.time.dt) {
   dh_ = descent::activation_distance(mesh, scene, reduction);
   kappa_.assign(mesh.num_vertices(), Real(0));
   for (index_t v = 0; v < mesh.num_vertices(); ++v)
@@ -85,6 +90,7 @@ template <class Real>
 void BodyContact<Real>::pull_back(const Real* qt, Real* q) {
   const Timed timed(seconds_.search);
   const index_t nv = mesh_.num_vertices();
+  qt_.assign(qt, qt + 3 * static_cast<std::size_t>(nv));
   // A pair's gap closes by at most the largest difference between the
   // moves of a vertex of one side and one of the other (its closest points
   // move by weighted means of them): nothing for bodies moving alike. That
@@ -150,6 +156,22 @@ void BodyContact<Real>::rebuild_here(const Real* q) {
   halo_.rebuild(q, dh_ + 2 * cap_, kappa_);
   pairs_ = find_contact_pairs(halo_, dh_ + 2 * cap_, self_);
   track_from_here();
+  if (!(mu_ > 0)) return;
+  // Friction lags from the step start (the ghosts' too).
+  halo_.gather(qt_.data(), start_);
+  const std::vector<Real>& kappa = halo_.carried();
+  std::size_t pair = 0;
+  Real xt[12];
+  for (int kind = 0; kind < 2; ++kind)
+    for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
+      Real k = 0;
+      for (int j = 0; j < 4; ++j) {
+        k += kappa[v[j]] / Real(4);
+        for (int i = 0; i < 3; ++i) xt[3 * j + i] = start_[3 * static_cast<std::size_t>(v[j]) + i];
+      }
+      lags_[pair++] = pair_friction_lag(kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge,
+                                        xt, k, static_cast<Real>(dh_), static_cast<Real>(mu_));
+    }
 }
 
 template <class Real>
@@ -172,6 +194,22 @@ void BodyContact<Real>::track_from_here() {
   const std::size_t np = pairs_.vertex_triangle.size() + pairs_.edge_edge.size();
   checked_distance_.assign(np, 0.0);
   checked_travel_.assign(np, -1.0);  // never evaluated
+  lags_.assign(np, PairFrictionLag<Real>{});
+}
+
+template <class Real>
+PairTerms<Real> BodyContact<Real>::terms_of(PairKind kind, std::size_t pair,
+                                            const std::array<index_t, 4>& v, const Real* x,
+                                            Real kappa, PairHessian hessian) const {
+  PairTerms<Real> t =
+      pair_barrier(kind, x, kappa, static_cast<Real>(dh_), static_cast<Real>(eps_), hessian);
+  if (lags_[pair].mu_lambda > Real(0)) {
+    Real xt[12];
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 3; ++i) xt[3 * j + i] = start_[3 * static_cast<std::size_t>(v[j]) + i];
+    add_pair_friction(lags_[pair], static_cast<Real>(eps_h_), x, xt, hessian, t);
+  }
+  return t;
 }
 
 template <class Real>
@@ -186,7 +224,7 @@ void BodyContact<Real>::for_each_pair(bool skip_far, Visit&& visit) {
       const std::size_t pair = index++;
       double travel = 0;
       for (int j = 0; j < 4; ++j) travel += travel_[v[j]];
-      if (skip_far && checked_travel_[pair] >= 0) {
+      if (skip_far && checked_travel_[pair] >= 0 && !(lags_[pair].mu_lambda > Real(0))) {
         // Its distance has fallen by at most its vertices' travel since it
         // was evaluated: still beyond dh, it has no term.
         const double bound = checked_distance_[pair] - (travel - checked_travel_[pair]);
@@ -203,7 +241,7 @@ void BodyContact<Real>::for_each_pair(bool skip_far, Visit&& visit) {
         for (int i = 0; i < 3; ++i) x[3 * j + i] = p[3 * static_cast<std::size_t>(v[j]) + i];
       }
       const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
-      const double distance = visit(pair_kind, v, x, k);
+      const double distance = visit(pair_kind, v, x, k, pair);
       if (distance >= 0) {
         checked_distance_[pair] = distance;
         checked_travel_[pair] = travel;
@@ -220,27 +258,25 @@ void BodyContact<Real>::add_gradient(const Real* q, Real* partial, int width, Re
   const auto& local_vertex = halo_.local_vertex();
   std::vector<Real> contact_diag(3 * static_cast<std::size_t>(local), Real(0));
   std::fill(nearest_.begin(), nearest_.end(), Real(INFINITY));
-  const Real dh = static_cast<Real>(dh_), eps = static_cast<Real>(eps_);
-  for_each_pair(true,
-                [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real kappa) {
-                  const PairTerms<Real> t = pair_barrier(kind, x, kappa, dh, eps, PairHessian::psd);
-                  for (int j = 0; j < 4; ++j) {
-                    const index_t c = v[j];
-                    if (c >= local) continue;
-                    nearest_[c] = std::min(nearest_[c], t.distance);
-                    if (t.energy == Real(0)) continue;
-                    Real* out = partial + width * static_cast<std::size_t>(local_vertex[c]);
-                    for (int i = 0; i < 3; ++i) {
-                      out[i] += t.grad[3 * j + i];
-                      // Gershgorin: the row's absolute sum dominates the pair's block.
-                      Real row = 0;
-                      for (int col = 0; col < 12; ++col)
-                        row += std::abs(t.hess[12 * (3 * j + i) + col]);
-                      contact_diag[3 * c + i] += row;
-                    }
-                  }
-                  return static_cast<double>(t.distance);
-                });
+  for_each_pair(true, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real kappa,
+                          std::size_t pair) {
+    const PairTerms<Real> t = terms_of(kind, pair, v, x, kappa, PairHessian::psd);
+    for (int j = 0; j < 4; ++j) {
+      const index_t c = v[j];
+      if (c >= local) continue;
+      nearest_[c] = std::min(nearest_[c], t.distance);
+      if (t.energy == Real(0)) continue;
+      Real* out = partial + width * static_cast<std::size_t>(local_vertex[c]);
+      for (int i = 0; i < 3; ++i) {
+        out[i] += t.grad[3 * j + i];
+        // Gershgorin: the row's absolute sum dominates the pair's block.
+        Real row = 0;
+        for (int col = 0; col < 12; ++col) row += std::abs(t.hess[12 * (3 * j + i) + col]);
+        contact_diag[3 * c + i] += row;
+      }
+    }
+    return static_cast<double>(t.distance);
+  });
   for (index_t c = 0; c < local; ++c) {
     const index_t v = local_vertex[c];
     for (int i = 0; i < 3; ++i) {
@@ -259,11 +295,10 @@ double BodyContact<Real>::local_energy(const Real* q) {
   update_ghosts(q);
   const Timed timed(seconds_.terms);
   double sum = 0;
-  const Real dh = static_cast<Real>(dh_), eps = static_cast<Real>(eps_);
-  for_each_pair(true, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x,
-                          Real kappa) {
+  for_each_pair(true, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real kappa,
+                          std::size_t pair) {
     if (counted_here(halo_, v))
-      sum += static_cast<double>(pair_barrier(kind, x, kappa, dh, eps, PairHessian::none).energy);
+      sum += static_cast<double>(terms_of(kind, pair, v, x, kappa, PairHessian::none).energy);
     return -1.0;
   });
   return sum;
@@ -278,25 +313,24 @@ void BodyContact<Real>::add_hessian_product(const Real* q, const Real* v, Real* 
   }
   const Timed timed(seconds_.terms);
   const index_t local = halo_.num_local();
-  const Real dh = static_cast<Real>(dh_), eps = static_cast<Real>(eps_);
-  for_each_pair(
-      true, [&](PairKind kind, const std::array<index_t, 4>& c, const Real* x, Real kappa) {
-        const PairTerms<Real> t = pair_barrier(kind, x, kappa, dh, eps, PairHessian::exact);
-        if (t.energy == Real(0)) return -1.0;
-        for (int j = 0; j < 4; ++j) {
-          if (c[j] >= local) continue;
-          Real* o = out + 3 * static_cast<std::size_t>(halo_.local_vertex()[c[j]]);
-          for (int i = 0; i < 3; ++i) {
-            Real s = 0;
-            for (int l = 0; l < 4; ++l)
-              for (int m = 0; m < 3; ++m)
-                s += t.hess[12 * (3 * j + i) + 3 * l + m] *
-                     gathered_[3 * static_cast<std::size_t>(c[l]) + m];
-            o[i] += s;
-          }
-        }
-        return -1.0;
-      });
+  for_each_pair(true, [&](PairKind kind, const std::array<index_t, 4>& c, const Real* x, Real kappa,
+                          std::size_t pair) {
+    const PairTerms<Real> t = terms_of(kind, pair, c, x, kappa, PairHessian::exact);
+    if (t.energy == Real(0)) return -1.0;
+    for (int j = 0; j < 4; ++j) {
+      if (c[j] >= local) continue;
+      Real* o = out + 3 * static_cast<std::size_t>(halo_.local_vertex()[c[j]]);
+      for (int i = 0; i < 3; ++i) {
+        Real s = 0;
+        for (int l = 0; l < 4; ++l)
+          for (int m = 0; m < 3; ++m)
+            s += t.hess[12 * (3 * j + i) + 3 * l + m] *
+                 gathered_[3 * static_cast<std::size_t>(c[l]) + m];
+        o[i] += s;
+      }
+    }
+    return -1.0;
+  });
 }
 
 template <class Real>
@@ -325,13 +359,14 @@ template <class Real>
 double BodyContact<Real>::local_active_pairs(const Real* q) {
   update_ghosts(q);
   double count = 0;
-  for_each_pair(false, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real) {
-    const PairDistance<Real> d = kind == PairKind::vertex_triangle
-                                     ? point_triangle_distance(x, false)
-                                     : edge_edge_distance(x, false);
-    if (counted_here(halo_, v) && std::sqrt(static_cast<double>(d.d2)) < dh_) count += 1;
-    return -1.0;
-  });
+  for_each_pair(
+      false, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real, std::size_t) {
+        const PairDistance<Real> d = kind == PairKind::vertex_triangle
+                                         ? point_triangle_distance(x, false)
+                                         : edge_edge_distance(x, false);
+        if (counted_here(halo_, v) && std::sqrt(static_cast<double>(d.d2)) < dh_) count += 1;
+        return -1.0;
+      });
   return count;
 }
 
@@ -339,13 +374,14 @@ template <class Real>
 double BodyContact<Real>::local_least_distance(const Real* q) {
   update_ghosts(q);
   double least = 1e300;
-  for_each_pair(false, [&](PairKind kind, const std::array<index_t, 4>&, const Real* x, Real) {
-    const PairDistance<Real> d = kind == PairKind::vertex_triangle
-                                     ? point_triangle_distance(x, false)
-                                     : edge_edge_distance(x, false);
-    least = std::min(least, std::sqrt(static_cast<double>(d.d2)));
-    return -1.0;
-  });
+  for_each_pair(
+      false, [&](PairKind kind, const std::array<index_t, 4>&, const Real* x, Real, std::size_t) {
+        const PairDistance<Real> d = kind == PairKind::vertex_triangle
+                                         ? point_triangle_distance(x, false)
+                                         : edge_edge_distance(x, false);
+        least = std::min(least, std::sqrt(static_cast<double>(d.d2)));
+        return -1.0;
+      });
   return least;
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 // Contact between bodies, and within one with contact.self (issue 21, step
-// 3; docs/contact.md): barrier terms of vertex-triangle and edge-edge pairs
-// (kernels/pair_contact.hpp) over the contact halo (contact_halo.hpp),
-// as part of eps for the Chebyshev iteration on the CPU.
+// 3; docs/contact.md): barrier and lagged friction terms (contact.friction)
+// of vertex-triangle and edge-edge pairs (kernels/pair_contact.hpp) over the contact halo
+// (contact_halo.hpp), as part of eps for the Chebyshev iteration on the CPU.
 //
 // The pairs are found (one allgather and one all-to-all) to a reach of
 // dh + 2 cap about where the surface vertices are, and the guard keeps
@@ -26,6 +26,7 @@
 #include "contact/contact_halo.hpp"
 #include "contact/contact_pairs.hpp"
 #include "io/scene.hpp"
+#include "kernels/pair_contact.hpp"
 #include "kernels/vertex.hpp"
 
 namespace descent {
@@ -92,11 +93,15 @@ class BodyContact {
   void track_from_here();
   // The halo's positions at q, timed.
   void update_ghosts(const Real* q);
-  // visit(kind, vertices, x, kappa) for each pair at the halo's current
+  // The pair's barrier and friction terms at x (its 12 coordinates).
+  PairTerms<Real> terms_of(PairKind kind, std::size_t pair, const std::array<index_t, 4>& v,
+                           const Real* x, Real kappa, PairHessian hessian) const;
+  // visit(kind, vertices, x, kappa, pair index) for each pair at the halo's current
   // positions, returning its distance (or < 0: not evaluated). With
   // skip_far, a pair whose last distance less its vertices' travel since
-  // then exceeds dh is not visited (it has no term), its bound only
-  // lowering its local vertices' nearest distance.
+  // then exceeds dh is not visited (it has no barrier term, and no friction
+  // if its lag has none), its bound only lowering its local vertices'
+  // nearest distance.
   template <class Visit>
   void for_each_pair(bool skip_far, Visit&& visit);
 
@@ -106,6 +111,7 @@ class BodyContact {
   ContactPairs pairs_;
   std::vector<Real> kappa_;  // per local vertex (surface ones meaningful)
   bool self_ = false;
+  double mu_ = 0, eps_h_ = 0;  // contact.friction; smoothing velocity x dt
   double dh_ = 0, eps_ = 0, cap_ = 0;
   std::vector<Real> anchor_;   // per contact vertex: the guess (local ones used)
   std::vector<Real> nearest_;  // per contact vertex: its nearest pair's distance
@@ -116,6 +122,10 @@ class BodyContact {
   // Per pair (vertex-triangle, then edge-edge): its distance when last
   // evaluated and its vertices' summed travel then (< 0: not yet).
   std::vector<double> checked_distance_, checked_travel_;
+  // The step start: q_t per local vertex, per contact vertex, and each
+  // pair's friction lag from it.
+  std::vector<Real> qt_, start_;
+  std::vector<PairFrictionLag<Real>> lags_;
   mutable Seconds seconds_;
 };
 

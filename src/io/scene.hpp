@@ -149,6 +149,8 @@ struct ContactSpec {
   // Contact of a body with itself (surface pairs within one body), besides
   // the contact between bodies that a scene of several bodies has.
   bool self = false;
+  // The Coulomb coefficient of friction between bodies (and within one).
+  double friction = 0;
 };
 
 struct TimeSpec {

@@ -82,7 +82,8 @@ struct MeshKeys {
 };
 
 MeshKeys scene_mesh_keys() {
-  return {"the scene", "mesh", "mesh.file", "mesh.generator", "mesh.helix", "mesh.box", "mesh.ball"};
+  return {"the scene",  "mesh",     "mesh.file", "mesh.generator",
+          "mesh.helix", "mesh.box", "mesh.ball"};
 }
 
 // `body` names the table: "body.0".
@@ -265,6 +266,7 @@ void check_contact(const SceneDocument& doc, const Scene& scene) {
           contact.stiffness);
   require(doc, contact.smoothing_velocity > 0, "contact.smoothing_velocity", "> 0",
           contact.smoothing_velocity);
+  require(doc, contact.friction >= 0, "contact.friction", ">= 0", contact.friction);
   // The barrier lives in the energy that the Chebyshev iteration descends;
   // the other methods do not yet evaluate it or keep iterates outside the
   // obstacles.

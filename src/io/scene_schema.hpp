@@ -101,6 +101,7 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("contact.stiffness", scene.contact.stiffness);
   visit("contact.smoothing_velocity", scene.contact.smoothing_velocity);
   visit("contact.self", scene.contact.self);
+  visit("contact.friction", scene.contact.friction);
 
   visit("partition.method", scene.partition.method);
   visit("partition.tries", scene.partition.tries);

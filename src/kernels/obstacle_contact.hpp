@@ -177,17 +177,16 @@ DESCENT_HOST_DEVICE inline Real add_barrier(const ObstacleGeometry<Real>& o, Rea
   return gap.g;
 }
 
-// Adds the lagged friction of one obstacle at x (step start xt) to `out`.
+// Lagged friction on a slip s (3-vector) with lagged normal n: the energy
+// mu_lambda f0(|u|), u = (I - n n^T) s, its gradient in s and its Hessian in
+// s (row-major; positive semi-definite in both regimes).
 template <class Real>
-DESCENT_HOST_DEVICE inline void add_friction(const FrictionLag<Real>& lag, Real eps_h,
-                                             const Real* x, const Real* xt,
-                                             ContactTerms<Real>& out) {
-  if (!(lag.mu_lambda > Real(0))) return;
-  Real s[3];
-  for (int i = 0; i < 3; ++i) s[i] = x[i] - xt[i] - lag.w[i];
-  const Real sn = s[0] * lag.n[0] + s[1] * lag.n[1] + s[2] * lag.n[2];
+DESCENT_HOST_DEVICE inline ContactTerms<Real> friction_on_slip(Real mu_lambda, const Real* n,
+                                                               Real eps_h, const Real* s) {
+  ContactTerms<Real> out;
+  const Real sn = s[0] * n[0] + s[1] * n[1] + s[2] * n[2];
   Real u[3];
-  for (int i = 0; i < 3; ++i) u[i] = s[i] - sn * lag.n[i];
+  for (int i = 0; i < 3; ++i) u[i] = s[i] - sn * n[i];
   const Real y = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
   // f1 = f0', f1(y)/y and the coefficient c = (f1'(y) - f1(y)/y)/y^2 of
   // u u^T in the Hessian of f0(|u|) = f1/y P + c u u^T, per regime.
@@ -201,14 +200,29 @@ DESCENT_HOST_DEVICE inline void add_friction(const FrictionLag<Real>& lag, Real 
     f1_over_y = Real(1) / y;
     c = -Real(1) / (y * y * y);
   }
-  const Real m = lag.mu_lambda;
-  out.energy += m * f0;
-  for (int i = 0; i < 3; ++i) out.grad[i] += m * f1_over_y * u[i];
+  out.energy = mu_lambda * f0;
+  for (int i = 0; i < 3; ++i) out.grad[i] = mu_lambda * f1_over_y * u[i];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      const Real p = (i == j ? Real(1) : Real(0)) - lag.n[i] * lag.n[j];
-      out.hess[3 * i + j] += m * (f1_over_y * p + c * u[i] * u[j]);
+      const Real p = (i == j ? Real(1) : Real(0)) - n[i] * n[j];
+      out.hess[3 * i + j] = mu_lambda * (f1_over_y * p + c * u[i] * u[j]);
     }
+  return out;
+}
+
+// Adds the lagged friction of one obstacle at x (step start xt) to `out`:
+// the slip is the vertex's move relative to the obstacle's, x - xt - w.
+template <class Real>
+DESCENT_HOST_DEVICE inline void add_friction(const FrictionLag<Real>& lag, Real eps_h,
+                                             const Real* x, const Real* xt,
+                                             ContactTerms<Real>& out) {
+  if (!(lag.mu_lambda > Real(0))) return;
+  Real s[3];
+  for (int i = 0; i < 3; ++i) s[i] = x[i] - xt[i] - lag.w[i];
+  const ContactTerms<Real> f = friction_on_slip(lag.mu_lambda, lag.n, eps_h, s);
+  out.energy += f.energy;
+  for (int i = 0; i < 3; ++i) out.grad[i] += f.grad[i];
+  for (int i = 0; i < 9; ++i) out.hess[i] += f.hess[i];
 }
 
 // All contact terms of one vertex at x against `count` obstacles (lags[k]

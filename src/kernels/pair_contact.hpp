@@ -1,9 +1,10 @@
 #pragma once
-// The barrier term of one contact pair between surface primitives (issue 21,
-// step 3): kappa b(d) for a vertex and a triangle, kappa m(e) b(d) for two
-// edges, with d their distance (kernels/primitive_distance.hpp), b the
-// barrier of the obstacles (kernels/obstacle_contact.hpp: active below dh,
-// +inf at d = 0) and m the mollifier of nearly parallel edges. Host and
+// The terms of one contact pair between surface primitives (issue 21, step
+// 3): its lagged friction, and its barrier: kappa b(d) for a vertex and a
+// triangle, kappa m(e) b(d) for two edges, with d their distance
+// (kernels/primitive_distance.hpp), b the barrier of the obstacles
+// (kernels/obstacle_contact.hpp: active below dh, +inf at d = 0) and m the
+// mollifier of nearly parallel edges. Host and
 // device. Layout of x, the gradient and the Hessian: primitive_distance.hpp.
 //
 // With D = d^2: B(D) = kappa b(sqrt D), B' = kappa b'(d) / (2 d) (<= 0) and
@@ -78,6 +79,64 @@ DESCENT_HOST_DEVICE inline PairTerms<Real> pair_barrier(PairKind kind, const Rea
       out.hess[12 * a + c] = h;
     }
   return out;
+}
+
+// Lagged friction between a pair's two sides (IPC's, as for obstacles): at
+// the step start x_t, the closest points' coefficients c (r = sum_k c_k x_k),
+// the normal n = r / |r| and mu lambda, lambda = -kappa b'(d_t) the barrier's
+// normal force. The slip is the closest points' relative move
+// s = sum_k c_k (x_k - x_k^t); the term mu lambda f0(|(I - n n^T) s|) with
+// f0 of obstacle friction (friction_on_slip). Its Hessian, c c^T times the
+// slip's, is positive semi-definite.
+template <class Real>
+struct PairFrictionLag {
+  Real mu_lambda = 0;  // 0: no friction (the pair was beyond dh at x_t)
+  Real n[3] = {0, 0, 0};
+  Real c[4] = {0, 0, 0, 0};
+};
+
+// The lag of a pair at step-start positions xt (12 coordinates), with its
+// stiffness, dh and the Coulomb coefficient mu.
+template <class Real>
+DESCENT_HOST_DEVICE inline PairFrictionLag<Real> pair_friction_lag(PairKind kind, const Real* xt,
+                                                                   Real kappa, Real dh, Real mu) {
+  PairFrictionLag<Real> lag;
+  if (!(mu > Real(0))) return lag;
+  const PairDistance<Real> dist = kind == PairKind::vertex_triangle
+                                      ? point_triangle_distance(xt, false)
+                                      : edge_edge_distance(xt, false);
+  const Real d = std::sqrt(dist.d2);
+  if (!(d > Real(0)) || d >= dh) return lag;
+  lag.mu_lambda = mu * -kappa * barrier(d, dh).first;
+  Real r[3] = {0, 0, 0};
+  for (int k = 0; k < 4; ++k) {
+    lag.c[k] = dist.coefficient[k];
+    for (int i = 0; i < 3; ++i) r[i] += lag.c[k] * xt[3 * k + i];
+  }
+  for (int i = 0; i < 3; ++i) lag.n[i] = r[i] / d;
+  return lag;
+}
+
+// Adds the pair's lagged friction at x (step start xt) to `out`, its
+// Hessian too unless `hessian` is none.
+template <class Real>
+DESCENT_HOST_DEVICE inline void add_pair_friction(const PairFrictionLag<Real>& lag, Real eps_h,
+                                                  const Real* x, const Real* xt,
+                                                  PairHessian hessian, PairTerms<Real>& out) {
+  if (!(lag.mu_lambda > Real(0))) return;
+  Real s[3] = {0, 0, 0};
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 3; ++i) s[i] += lag.c[k] * (x[3 * k + i] - xt[3 * k + i]);
+  const ContactTerms<Real> f = friction_on_slip(lag.mu_lambda, lag.n, eps_h, s);
+  out.energy += f.energy;
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 3; ++i) out.grad[3 * k + i] += lag.c[k] * f.grad[i];
+  if (hessian == PairHessian::none) return;
+  for (int k = 0; k < 4; ++k)
+    for (int l = 0; l < 4; ++l)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          out.hess[12 * (3 * k + i) + 3 * l + j] += lag.c[k] * lag.c[l] * f.hess[3 * i + j];
 }
 
 }  // namespace descent

@@ -26,6 +26,7 @@ namespace descent {
 template <class Real>
 struct PairDistance {
   Real d2;
+  Real coefficient[4];  // C at the closest points: r = sum_k C_k x_k
   Real grad[12];
   Real hess[144];  // row-major 12 x 12; filled when asked for
 };
@@ -55,6 +56,7 @@ DESCENT_HOST_DEVICE inline void closest_pair(const Real* x, const Real* c0, cons
       for (int j = 0; j < free; ++j) e[j][i] += cj[j][k] * x[3 * k + i];
     }
   out.d2 = dot3(r, r);
+  for (int k = 0; k < 4; ++k) out.coefficient[k] = c[k];
   for (int k = 0; k < 4; ++k)
     for (int i = 0; i < 3; ++i) out.grad[3 * k + i] = Real(2) * c[k] * r[i];
   if (!with_hessian) return;

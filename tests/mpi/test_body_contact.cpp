@@ -143,5 +143,56 @@ TEST(BodyContact, BodiesThatTouchAtTheStartAreAnError) {
   }
 }
 
+// A block on a held slab, gravity tilted by theta = 20 degrees (an incline):
+// with friction 0.5 > tan(theta) it sticks (its creep stays below the
+// smoothing velocity times the time), with 0.2 it slides with acceleration
+// g (sin - mu cos) within 5%.
+TEST(BodyContact, ABlockOnAnInclinedBodySticksOrSlidesAsCoulombSays) {
+  const double theta = 20 * M_PI / 180, g = 9.81;
+  for (double mu : {0.5, 0.2}) {
+    Scene scene;
+    Body slab;
+    slab.mesh.generator = "box";
+    slab.mesh.box.cells = {6, 1, 6};
+    slab.mesh.box.size = {1.0, 0.1, 1.0};
+    slab.mesh.box.origin = {-0.5, -0.1, -0.5};
+    Body block;
+    block.mesh.generator = "box";
+    block.mesh.box.cells = {4, 2, 4};
+    block.mesh.box.size = {0.2, 0.1, 0.2};
+    block.mesh.box.origin = {-0.1, 1.5e-4, -0.1};
+    scene.bodies = {slab, block};
+    FixedRegion held;  // the whole slab, its top face included
+    held.box_min = {-1, -1, -1};
+    held.box_max = {1, 1e-9, 1};
+    scene.fixed.push_back(held);
+    scene.gravity = {g * std::sin(theta), -g * std::cos(theta), 0};
+    scene.material.young = 1e6;
+    scene.contact.friction = mu;
+    scene.time.dt = 0.01;
+    scene.solver.accuracy = 1e-4;
+    scene.solver.iterations = 400;
+    const Mesh mesh = build_scene_mesh(scene);
+    Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+    // Settle onto the barrier, then measure over 0.2 s.
+    for (int frame = 0; frame < 10; ++frame) ASSERT_TRUE(sim.step().finite);
+    const double x0 = measured(sim, "body1_com_x");
+    std::vector<double> velocity;
+    for (int frame = 0; frame < 20; ++frame) {
+      ASSERT_TRUE(sim.step().finite) << "mu " << mu << " frame " << frame;
+      velocity.push_back(measured(sim, "body1_velocity_x"));
+    }
+    const double t = 20 * scene.time.dt;
+    if (mu > std::tan(theta)) {
+      EXPECT_LT(std::abs(measured(sim, "body1_com_x") - x0), scene.contact.smoothing_velocity * t)
+          << "mu " << mu;
+    } else {
+      const double a = (velocity[19] - velocity[9]) / (10 * scene.time.dt);
+      const double want = g * (std::sin(theta) - mu * std::cos(theta));
+      EXPECT_NEAR(a, want, 0.05 * want) << "mu " << mu;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace descent

@@ -111,6 +111,12 @@ double max_abs(const double* v, int n) {
   return m;
 }
 
+// The least eigenvalue of a symmetric 12 x 12 matrix (row-major).
+double lowest_eigenvalue(const double* h) {
+  const Eigen::Map<const Eigen::Matrix<double, 12, 12, Eigen::RowMajor>> m(h);
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 12, 12>>(m).eigenvalues().minCoeff();
+}
+
 // d^2 of `kind` at x: its value against brute force, its gradient and
 // Hessian against finite differences.
 void check_distance(PairKind kind, const X& x, const std::string& what) {
@@ -223,10 +229,7 @@ void check_pair(PairKind kind, const X& x, double dh, double eps, const std::str
   const double hscale = max_abs(hess.data(), 144);
   for (int a = 0; a < 144; ++a) EXPECT_NEAR(t.hess[a], hess[a], 1e-4 * hscale) << "entry " << a;
   const PairTerms<double> psd = pair_barrier(kind, x.data(), kappa, dh, eps, PairHessian::psd);
-  const Eigen::Map<const Eigen::Matrix<double, 12, 12, Eigen::RowMajor>> m(psd.hess);
-  const double lowest =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 12, 12>>(m).eigenvalues().minCoeff();
-  EXPECT_GE(lowest, -1e-9 * hscale);
+  EXPECT_GE(lowest_eigenvalue(psd.hess), -1e-9 * hscale);
 }
 
 TEST(PairContact, BarrierTermsMatchFiniteDifferences) {
@@ -286,6 +289,51 @@ TEST(PairContact, PsdDiagonalIsTheExactOneNearContact) {
     }
   EXPECT_GT(scale, 0.0);
   EXPECT_LT(worst, 1e-9 * scale);
+}
+
+// Lagged friction of a pair: its normal force and normal from the step
+// start, the closest points' relative slip since; gradient and Hessian by
+// finite differences in the sticking (|slip| < eps_h) and sliding regimes,
+// the Hessian positive semi-definite, no term beyond dh at the start.
+TEST(PairContact, FrictionMatchesFiniteDifferencesAndIsConvex) {
+  std::mt19937 rng(21);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const double dh = 0.1, kappa = 1e3, mu = 0.4, eps_h = 1e-3;
+  const X face = moved({0.2, 0.3, 0.03, 0, 0, 0, 1, 0, 0, 0, 1, 0}, rng);
+  const X crossing = moved({-0.5, 0, 0, 0.5, 0.1, 0, 0.05, -0.5, 0.03, -0.1, 0.5, 0.03}, rng);
+  for (const auto& [kind, xt] :
+       {std::pair{PairKind::vertex_triangle, face}, std::pair{PairKind::edge_edge, crossing}}) {
+    const PairFrictionLag<double> lag = pair_friction_lag(kind, xt.data(), kappa, dh, mu);
+    ASSERT_GT(lag.mu_lambda, 0.0);
+    EXPECT_NEAR(std::hypot(lag.n[0], lag.n[1], lag.n[2]), 1.0, 1e-12);
+    for (double slip : {3e-4, 3e-2}) {  // sticking, sliding
+      X x = xt;
+      for (double& v : x) v += slip * n(rng);
+      const auto friction = [&](const X& y, PairHessian h) {
+        PairTerms<double> t;
+        add_pair_friction(lag, eps_h, y.data(), xt.data(), h, t);
+        return t;
+      };
+      const PairTerms<double> t = friction(x, PairHessian::exact);
+      const double h = 1e-3 * slip;
+      const std::array<double, 12> g =
+          fd_gradient([&](const X& y) { return friction(y, PairHessian::none).energy; }, x, h);
+      for (int a = 0; a < 12; ++a) EXPECT_NEAR(t.grad[a], g[a], 1e-5 * max_abs(g.data(), 12));
+      const std::array<double, 144> hess = fd_jacobian(
+          [&](const X& y) {
+            const PairTerms<double> u = friction(y, PairHessian::none);
+            std::array<double, 12> out;
+            std::copy(u.grad, u.grad + 12, out.begin());
+            return out;
+          },
+          x, h);
+      for (int a = 0; a < 144; ++a)
+        EXPECT_NEAR(t.hess[a], hess[a], 1e-4 * max_abs(hess.data(), 144)) << "entry " << a;
+      EXPECT_GE(lowest_eigenvalue(t.hess), -1e-9 * max_abs(t.hess, 144));
+    }
+  }
+  const X far = {0.2, 0.3, 0.2, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+  EXPECT_EQ(pair_friction_lag(PairKind::vertex_triangle, far.data(), kappa, dh, mu).mu_lambda, 0.0);
 }
 
 }  // namespace

@@ -1177,6 +1177,9 @@ TEST(Scene, ContactBetweenBodiesNeedsTheChebyshevBarrierWithJacobi) {
   EXPECT_NO_THROW(parse(two));
   EXPECT_TRUE(parse(kBoxScene, {"contact.self=true"}).contact.self);
   EXPECT_FALSE(parse(kBoxScene).contact.self);
+  EXPECT_EQ(parse(two + "[contact]\nfriction = 0.3\n").contact.friction, 0.3);
+  expect_has(error_of(two + "[contact]\nfriction = -0.3\n"),
+             "contact.friction must be >= 0, got -0.3");
   expect_has(error_of(two + "[solver]\nmethod = \"lbfgs\"\n"),
              "scene.toml:7: a scene of several bodies ([[body]]) has contact between bodies, which "
              "solver.method = chebyshev alone evaluates (got lbfgs)");
