@@ -4,6 +4,7 @@
 #include <cstring>
 #include <map>
 #include <sstream>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -112,14 +113,16 @@ std::string run_identity(const Scene& scene, const MeshDigests& digests,
     if (!restart_may_change(key)) text += key + " = " + as_text(value) + "\n";
   };
   SceneFields fields{scene, {}};
-  visit_scene_keys(fields, [&](const char* key, const auto& value) {
-    // mesh.helix.preset only names a resolution, which is listed itself.
-    if (std::strcmp(key, "mesh.helix.preset") != 0) line(key, value);
+  // A helix preset only names a resolution, which is listed itself.
+  auto names_a_resolution = [](std::string_view key) { return key.ends_with("helix.preset"); };
+  visit_scene_keys(fields, [&](std::string_view key, const auto& value) {
+    if (!names_a_resolution(key)) line(std::string(key), value);
   });
-  visit_scene_arrays(fields.scene, [&](const char* name, auto& list) {
+  visit_scene_arrays(fields.scene, [&](std::string_view name, auto& list) {
     for (std::size_t e = 0; e < list.size(); ++e)
-      visit_entry_keys(list[e], [&](const char* key, const auto& value) {
-        line(std::string(name) + "." + std::to_string(e) + "." + key, value);
+      visit_entry_keys(list[e], [&](std::string_view key, const auto& value) {
+        if (!names_a_resolution(key))
+          line(std::string(name) + "." + std::to_string(e) + "." + std::string(key), value);
       });
   });
   line("mesh.digest", digests.mesh);

@@ -18,6 +18,25 @@ struct SceneFields {
   std::string helix_preset;  // mesh.helix.preset: a named mesh.helix.resolution
 };
 
+// The parameter tables of the generators ([mesh.helix], [mesh.box],
+// [mesh.ball]) below `prefix` ("mesh.", a body's "generator."), but
+// helix.preset, which fills no MeshSpec field.
+template <class Visit>
+void visit_generator_keys(MeshSpec& mesh, const std::string& prefix, Visit&& visit) {
+  visit(prefix + "helix.resolution", mesh.helix.resolution);
+  visit(prefix + "helix.helix_radius", mesh.helix.helix_radius);
+  visit(prefix + "helix.tube_radius", mesh.helix.tube_radius);
+  visit(prefix + "helix.pitch", mesh.helix.pitch);
+  visit(prefix + "helix.turns", mesh.helix.turns);
+  visit(prefix + "box.cells", mesh.box.cells);
+  visit(prefix + "box.size", mesh.box.size);
+  visit(prefix + "box.origin", mesh.box.origin);
+  visit(prefix + "box.tets_per_cell", mesh.box.tets_per_cell);
+  visit(prefix + "ball.cells", mesh.ball.cells);
+  visit(prefix + "ball.radius", mesh.ball.radius);
+  visit(prefix + "ball.centre", mesh.ball.centre);
+}
+
 // Calls visit(dotted_key, field) for every key outside the arrays of tables.
 template <class Visit>
 void visit_scene_keys(SceneFields& fields, Visit&& visit) {
@@ -27,18 +46,7 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
   visit("mesh.file", mesh.file);
   visit("mesh.scale", mesh.scale);
   visit("mesh.helix.preset", fields.helix_preset);
-  visit("mesh.helix.resolution", mesh.helix.resolution);
-  visit("mesh.helix.helix_radius", mesh.helix.helix_radius);
-  visit("mesh.helix.tube_radius", mesh.helix.tube_radius);
-  visit("mesh.helix.pitch", mesh.helix.pitch);
-  visit("mesh.helix.turns", mesh.helix.turns);
-  visit("mesh.box.cells", mesh.box.cells);
-  visit("mesh.box.size", mesh.box.size);
-  visit("mesh.box.origin", mesh.box.origin);
-  visit("mesh.box.tets_per_cell", mesh.box.tets_per_cell);
-  visit("mesh.ball.cells", mesh.ball.cells);
-  visit("mesh.ball.radius", mesh.ball.radius);
-  visit("mesh.ball.centre", mesh.ball.centre);
+  visit_generator_keys(mesh, "mesh.", visit);
 
   visit("material.model", scene.material.model);
   visit("material.young", scene.material.young);
@@ -164,18 +172,7 @@ void visit_entry_keys(Body& body, Visit&& visit) {
   visit("file", mesh.file);
   visit("generator.kind", mesh.generator);
   visit("generator.helix.preset", body.helix_preset);
-  visit("generator.helix.resolution", mesh.helix.resolution);
-  visit("generator.helix.helix_radius", mesh.helix.helix_radius);
-  visit("generator.helix.tube_radius", mesh.helix.tube_radius);
-  visit("generator.helix.pitch", mesh.helix.pitch);
-  visit("generator.helix.turns", mesh.helix.turns);
-  visit("generator.box.cells", mesh.box.cells);
-  visit("generator.box.size", mesh.box.size);
-  visit("generator.box.origin", mesh.box.origin);
-  visit("generator.box.tets_per_cell", mesh.box.tets_per_cell);
-  visit("generator.ball.cells", mesh.ball.cells);
-  visit("generator.ball.radius", mesh.ball.radius);
-  visit("generator.ball.centre", mesh.ball.centre);
+  visit_generator_keys(mesh, "generator.", visit);
   visit("scale", body.scale);
   visit("rotate.axis", body.rotate_axis);
   visit("rotate.degrees", body.rotate_degrees);

@@ -1,14 +1,26 @@
 #pragma once
 // Test helpers: the global picture of a distributed run, on rank 0.
+#include <gtest/gtest.h>
 #include <mpi.h>
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "app/simulation.hpp"
 
 namespace descent::testing {
+
+// The value of stats column `name` after the last step (collective: every
+// rank calls it); a test failure when the run has no such column.
+inline double measured(Simulation<double>& sim, const std::string& name) {
+  const std::vector<double> values = sim.measure();
+  const auto& names = sim.measurement_names();
+  const auto at = std::find(names.begin(), names.end(), name);
+  EXPECT_NE(at, names.end()) << "no column " << name;
+  return at == names.end() ? 0.0 : values[at - names.begin()];
+}
 
 // Positions of all global vertices (xyz by global id) on rank 0, from the
 // owned vertices of every rank; empty on other ranks.

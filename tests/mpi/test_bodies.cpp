@@ -17,6 +17,8 @@
 namespace descent {
 namespace {
 
+using testing::measured;
+
 Body box_body(std::array<double, 3> translate) {
   Body body;
   body.mesh.generator = "box";
@@ -36,14 +38,6 @@ Scene two_bodies() {
   scene.solver.accuracy = 1e-7;
   scene.solver.iterations = 1000;
   return scene;
-}
-
-double measured(Simulation<double>& sim, const std::string& name) {
-  const std::vector<double> values = sim.measure();
-  const auto& names = sim.measurement_names();
-  const auto at = std::find(names.begin(), names.end(), name);
-  EXPECT_NE(at, names.end()) << "no column " << name;
-  return at == names.end() ? 0.0 : values[at - names.begin()];
 }
 
 TEST(Bodies, EachStartsWithItsRigidVelocityAndKeepsItsMomentum) {

@@ -20,6 +20,8 @@
 namespace descent {
 namespace {
 
+using testing::measured;
+
 Body box(std::array<double, 3> translate, double vx) {
   Body body;
   body.mesh.generator = "box";
@@ -40,14 +42,6 @@ Scene head_on(double vx) {
   scene.time.dt = 0.01;
   scene.solver.iterations = 300;
   return scene;
-}
-
-double measured(Simulation<double>& sim, const std::string& name) {
-  const std::vector<double> values = sim.measure();
-  const auto& names = sim.measurement_names();
-  const auto at = std::find(names.begin(), names.end(), name);
-  EXPECT_NE(at, names.end()) << "no column " << name;
-  return at == names.end() ? 0.0 : values[at - names.begin()];
 }
 
 TEST(BodyContact, HeadOnImpactConservesMomentumAndBouncesApart) {

@@ -19,6 +19,8 @@
 namespace descent {
 namespace {
 
+using testing::measured;
+
 constexpr double kG = 9.81;
 
 // A box of `size` whose bottom face lies `gap` above the plane y = 0, with
@@ -45,15 +47,6 @@ Scene box_on_floor(double gap, double mu) {
 double box_mass(const Scene& scene) {
   const auto& s = scene.mesh.box.size;
   return scene.material.density * s[0] * s[1] * s[2];
-}
-
-// The value of stats column `name` at the end of the last step (collective).
-double measured(Simulation<double>& sim, const std::string& name) {
-  const std::vector<double> values = sim.measure();
-  const auto& names = sim.measurement_names();
-  const auto at = std::find(names.begin(), names.end(), name);
-  EXPECT_NE(at, names.end()) << "no column " << name;
-  return at == names.end() ? 0.0 : values[at - names.begin()];
 }
 
 // The mean x of all vertices (each counted by its owner), on every rank.
