@@ -5,7 +5,6 @@
 
 #include "common/error.hpp"
 #include "contact/contact_scale.hpp"
-#include "kernels/contact_loops.hpp"
 #include "kernels/pair_contact.hpp"
 
 namespace descent {
