@@ -32,7 +32,7 @@ bin=$build/src/app/descent
   echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc --all) cores; no GPU used"
   echo "tree: $(git -C "$root" rev-parse --short HEAD) (+ working tree)"
   echo "runs $runs, frames $frames, OMP_NUM_THREADS=1"
-  echo "command: mpiexec -n RANKS $bin run jobs/contact/SCENE.toml --set time.frames=$frames"
+  echo "command: mpiexec -n RANKS ${bin#"$root"/} run jobs/contact/SCENE.toml --set time.frames=$frames"
 } | tee -a "$log"
 
 for scene in bodies_floor snowman bowling pile; do

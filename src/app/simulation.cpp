@@ -233,7 +233,9 @@ std::vector<double> Simulation<Real>::measure() {
   }
   BodyContact<Real>* pairs = problem_.body_contact();
   const std::size_t pairs_at = sums.size();
-  if (pairs) sums.push_back(pairs->local_active_pairs(state_.q.data()));
+  const std::array<double, 2> pair_stats =
+      pairs ? pairs->local_pair_stats(state_.q.data()) : std::array<double, 2>{};
+  if (pairs) sums.push_back(pair_stats[0]);
   const std::size_t bodies_at = sums.size();
   if (!scene_.bodies.empty()) {
     const std::vector<double> b = local_body_sums(local_, vertex_bodies(local_), problem_.mass(),
@@ -262,7 +264,7 @@ std::vector<double> Simulation<Real>::measure() {
   }
   if (pairs) {
     values.push_back(sums[pairs_at]);
-    values.push_back(-reduction_.max_of(-pairs->local_least_distance(state_.q.data())));
+    values.push_back(-reduction_.max_of(-pair_stats[1]));
   }
   for (std::size_t b = 0; b < scene_.bodies.size(); ++b) {
     const double* s = &sums[bodies_at + kBodySums * b];

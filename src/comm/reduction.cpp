@@ -38,12 +38,15 @@ void EnergyReduction::sum_dots(double* values, int count) {
 }
 
 double EnergyReduction::max_of(double value) {
+  max_in_place(&value, 1);
+  return value;
+}
+
+void EnergyReduction::max_in_place(double* values, int count) {
   const double start = MPI_Wtime();
-  double global = value;
-  DESCENT_MPI_CHECK(MPI_Allreduce(&value, &global, 1, MPI_DOUBLE, MPI_MAX, comm_));
+  DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, values, count, MPI_DOUBLE, MPI_MAX, comm_));
   ++counters_.dot_allreduces;
   counters_.seconds += MPI_Wtime() - start;
-  return global;
 }
 
 namespace {

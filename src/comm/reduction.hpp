@@ -51,6 +51,9 @@ class EnergyReduction {
   void sum_dots(double* values, int count);
   // The maximum of `value` over all ranks: one MPI_Allreduce, counted as a dot.
   double max_of(double value);
+  // The maxima of `count` values over all ranks, in place: one MPI_Allreduce,
+  // counted as a dot.
+  void max_in_place(double* values, int count);
 
   // For Newton's direct solver (solver/methods/newton_ldlt.hpp), which
   // assembles the global system on rank 0. Each is one collective, counted

@@ -77,7 +77,7 @@ BodyContact<Real>::BodyContact(const LocalMesh& mesh, const Scene& scene, Halo<R
   halo_.rebuild(rest.data(), dh_, kappa_);
   pairs_ = find_contact_pairs(halo_, dh_, self_);
   track_from_here();
-  const double least = reduction.max_of(-local_least_distance(rest.data()));
+  const double least = reduction.max_of(-local_pair_stats(rest.data())[1]);
   if (-least <= 0)
     throw InputError(
         "bodies touch at the start (a vertex on another body's surface, or two edges "
@@ -103,7 +103,7 @@ void BodyContact<Real>::pull_back(const Real* qt, Real* q) {
       box[i] = std::max(box[i], d);
       box[3 + i] = std::max(box[3 + i], -d);
     }
-  for (double& b : box) b = reduction_.max_of(b);
+  reduction_.max_in_place(box.data(), 6);
   const double middle[3] = {0.5 * (box[0] - box[3]), 0.5 * (box[1] - box[4]),
                             0.5 * (box[2] - box[5])};
   double spread = 0;
@@ -135,7 +135,7 @@ void BodyContact<Real>::pull_back(const Real* qt, Real* q) {
       for (int k = 0; k < 4; ++k)
         for (int i = 0; i < 3; ++i) x[3 * k + i] = start[3 * static_cast<std::size_t>(v[k]) + i];
       const double d = std::sqrt(static_cast<double>(
-          kind == 0 ? point_triangle_distance(x, false).d2 : edge_edge_distance(x, false).d2));
+          pair_distance(kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge, x, false).d2));
       // Sides: the vertex and the triangle, or the two edges.
       const int side = kind == 0 ? 1 : 2;
       double closing = 0;
@@ -174,11 +174,11 @@ void BodyContact<Real>::rebuild_here(const Real* q) {
 }
 
 template <class Real>
-bool BodyContact<Real>::needs_rebuild() const {
-  const std::vector<Real>& p = halo_.positions();
+bool BodyContact<Real>::needs_rebuild(const Real* q) const {
   for (index_t c = 0; c < halo_.num_local(); ++c) {
+    const Real* x = q + 3 * static_cast<std::size_t>(halo_.local_vertex()[c]);
     double d[3];
-    for (int i = 0; i < 3; ++i) d[i] = static_cast<double>(p[3 * c + i] - anchor_[3 * c + i]);
+    for (int i = 0; i < 3; ++i) d[i] = static_cast<double>(x[i] - anchor_[3 * c + i]);
     if (length(d) > 0.5 * cap_) return true;
   }
   return false;
@@ -255,7 +255,8 @@ void BodyContact<Real>::add_gradient(const Real* q, Real* partial, int width, Re
   const Timed timed(seconds_.terms);
   const index_t local = halo_.num_local();
   const auto& local_vertex = halo_.local_vertex();
-  std::vector<Real> contact_diag(3 * static_cast<std::size_t>(local), Real(0));
+  std::vector<Real>& contact_diag = contact_diagonal_;
+  contact_diag.assign(3 * static_cast<std::size_t>(local), Real(0));
   std::fill(nearest_.begin(), nearest_.end(), Real(INFINITY));
   for_each_pair(true, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real kappa,
                           std::size_t pair) {
@@ -355,33 +356,17 @@ void BodyContact<Real>::guard(const Real* q, Real* q_next, const std::uint8_t* f
 }
 
 template <class Real>
-double BodyContact<Real>::local_active_pairs(const Real* q) {
+std::array<double, 2> BodyContact<Real>::local_pair_stats(const Real* q) {
   update_ghosts(q);
-  double count = 0;
+  std::array<double, 2> stats{0.0, 1e300};  // pairs within dh, least distance
   for_each_pair(
       false, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real, std::size_t) {
-        const PairDistance<Real> d = kind == PairKind::vertex_triangle
-                                         ? point_triangle_distance(x, false)
-                                         : edge_edge_distance(x, false);
-        if (counted_here(halo_, v) && std::sqrt(static_cast<double>(d.d2)) < dh_) count += 1;
+        const double d = std::sqrt(static_cast<double>(pair_distance(kind, x, false).d2));
+        if (counted_here(halo_, v) && d < dh_) stats[0] += 1;
+        stats[1] = std::min(stats[1], d);
         return -1.0;
       });
-  return count;
-}
-
-template <class Real>
-double BodyContact<Real>::local_least_distance(const Real* q) {
-  update_ghosts(q);
-  double least = 1e300;
-  for_each_pair(
-      false, [&](PairKind kind, const std::array<index_t, 4>&, const Real* x, Real, std::size_t) {
-        const PairDistance<Real> d = kind == PairKind::vertex_triangle
-                                         ? point_triangle_distance(x, false)
-                                         : edge_edge_distance(x, false);
-        least = std::min(least, std::sqrt(static_cast<double>(d.d2)));
-        return -1.0;
-      });
-  return least;
+  return stats;
 }
 
 template <class Real>

@@ -53,9 +53,9 @@ class BodyContact {
   // Collective: the pairs about q (3 per local vertex), the guard's anchor
   // there.
   void rebuild_here(const Real* q);
-  // Whether a local surface vertex has drifted cap/2 from where the pairs
-  // were found (at the positions of the last evaluation).
-  bool needs_rebuild() const;
+  // Whether a local surface vertex of q (3 per local vertex) has drifted
+  // cap/2 from where the pairs were found. No communication.
+  bool needs_rebuild(const Real* q) const;
 
   // At q: the gradient of the pairs around this rank's vertices into
   // `partial` (`width` per vertex) and, with width 6, the dominant diagonal
@@ -84,8 +84,7 @@ class BodyContact {
   const Seconds& seconds() const { return seconds_; }
   // For the stats, at q: this rank's counted pairs within dh, and the least
   // distance of its pairs (1e300 without pairs).
-  double local_active_pairs(const Real* q);
-  double local_least_distance(const Real* q);
+  std::array<double, 2> local_pair_stats(const Real* q);
 
  private:
   // The guard's anchor and the pairs' skip bounds from the halo's positions
@@ -116,6 +115,7 @@ class BodyContact {
   std::vector<Real> anchor_;   // per contact vertex: the guess (local ones used)
   std::vector<Real> nearest_;  // per contact vertex: its nearest pair's distance
   std::vector<Real> gathered_;
+  std::vector<Real> contact_diagonal_;  // add_gradient's, 3 per local contact vertex
   // Per contact vertex: path length since begin_step, and where it was.
   std::vector<double> travel_;
   std::vector<Real> last_;

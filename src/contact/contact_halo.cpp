@@ -89,6 +89,9 @@ void ContactHalo<Real>::rebuild(const Real* q, double reach, const std::vector<R
   double longest = 0;
   for (const SurfaceBox& box : all) longest = std::max(longest, box.longest_edge);
   const double grow = reach + longest;
+  Aabb surface;  // this rank's surface vertices (empty without any)
+  surface.lo = {mine.lo[0], mine.lo[1], mine.lo[2]};
+  surface.hi = {mine.hi[0], mine.hi[1], mine.hi[2]};
 
   // Each triangle goes to every other rank whose grown box it meets, with
   // its vertices (each once per rank).
@@ -97,8 +100,9 @@ void ContactHalo<Real>::rebuild(const Real* q, double reach, const std::vector<R
   std::vector<std::vector<index_t>> sent(size);
   for (int pass = 0; pass < 2; ++pass) {
     for (int s = 0; s < size; ++s) {
-      if (s == rank) continue;
       if (pass == 0) sent[s].clear();
+      // No triangle of this rank can meet a box its whole surface misses.
+      if (s == rank || !meets(all[s], surface, grow)) continue;
       for (std::size_t k = 0; k < own_triangles_.size(); ++k) {
         if (!meets(all[s], boxes[k], grow)) continue;
         const auto& tri = own_triangles_[k];
@@ -205,8 +209,13 @@ void ContactHalo<Real>::gather(const Real* values, std::vector<Real>& out) const
   out.resize(3 * global_id_.size());
   for (index_t c = 0; c < num_local_; ++c)
     for (int i = 0; i < 3; ++i) out[3 * c + i] = values[3 * surface_[c] + i];
-  std::vector<std::vector<Real>> sending(destinations_.size()), in(sources_.size());
-  std::vector<MPI_Request> requests;
+  // Buffers kept between calls: this runs every iteration.
+  std::vector<std::vector<Real>>& sending = sending_;
+  std::vector<std::vector<Real>>& in = receiving_;
+  std::vector<MPI_Request>& requests = requests_;
+  sending.resize(destinations_.size());
+  in.resize(sources_.size());
+  requests.clear();
   requests.reserve(sources_.size() + destinations_.size());
   for (std::size_t s = 0; s < sources_.size(); ++s) {
     in[s].resize(3 * receive_slots_[s].size());
@@ -214,6 +223,7 @@ void ContactHalo<Real>::gather(const Real* values, std::vector<Real>& out) const
                                 sources_[s], kGhostTag, comm_, &requests.emplace_back()));
   }
   for (std::size_t d = 0; d < destinations_.size(); ++d) {
+    sending[d].clear();
     for (index_t v : send_vertices_[d])
       for (int i = 0; i < 3; ++i) sending[d].push_back(values[3 * v + i]);
     DESCENT_MPI_CHECK(MPI_Isend(sending[d].data(), static_cast<int>(sending[d].size()),

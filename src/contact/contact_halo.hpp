@@ -81,6 +81,9 @@ class ContactHalo {
   std::vector<int> destinations_, sources_;
   std::vector<std::vector<index_t>> send_vertices_;
   std::vector<std::vector<index_t>> receive_slots_;
+  // gather()'s message buffers, kept between its calls.
+  mutable std::vector<std::vector<Real>> sending_, receiving_;
+  mutable std::vector<MPI_Request> requests_;
 };
 
 }  // namespace descent

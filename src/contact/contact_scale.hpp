@@ -12,21 +12,20 @@
 namespace descent {
 
 // contact.distance, or 1e-3 of the diagonal of the bodies' bounding box at
-// rest (collective: six maxima over ranks).
+// rest (collective: one allreduce of the box's six maxima).
 inline double activation_distance(const LocalMesh& mesh, const Scene& scene,
                                   EnergyReduction& reduction) {
   if (scene.contact.distance > 0) return scene.contact.distance;
   const auto& x = mesh.rest_positions;
-  double extent2 = 0;
-  for (int i = 0; i < 3; ++i) {
-    double lo = 1e300, hi = -1e300;
-    for (index_t v = 0; v < mesh.num_vertices(); ++v) {
-      lo = std::min(lo, x[3 * static_cast<std::size_t>(v) + i]);
-      hi = std::max(hi, x[3 * static_cast<std::size_t>(v) + i]);
+  double box[6] = {-1e300, -1e300, -1e300, -1e300, -1e300, -1e300};  // hi xyz, -lo xyz
+  for (index_t v = 0; v < mesh.num_vertices(); ++v)
+    for (int i = 0; i < 3; ++i) {
+      box[i] = std::max(box[i], x[3 * static_cast<std::size_t>(v) + i]);
+      box[3 + i] = std::max(box[3 + i], -x[3 * static_cast<std::size_t>(v) + i]);
     }
-    const double span = reduction.max_of(hi) + reduction.max_of(-lo);
-    extent2 += span * span;
-  }
+  reduction.max_in_place(box, 6);
+  double extent2 = 0;
+  for (int i = 0; i < 3; ++i) extent2 += (box[i] + box[3 + i]) * (box[i] + box[3 + i]);
   return 1e-3 * std::sqrt(extent2);
 }
 

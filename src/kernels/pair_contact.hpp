@@ -35,14 +35,20 @@ struct PairTerms {
   Real hess[144] = {};  // row-major, when asked for
 };
 
+// The pair's distance^2 and its derivatives (primitive_distance.hpp).
+template <class Real>
+DESCENT_HOST_DEVICE inline PairDistance<Real> pair_distance(PairKind kind, const Real* x,
+                                                            bool with_hessian) {
+  return kind == PairKind::vertex_triangle ? point_triangle_distance(x, with_hessian)
+                                           : edge_edge_distance(x, with_hessian);
+}
+
 // `eps`: the mollifier's threshold for edge pairs (edge_parallelism).
 template <class Real>
 DESCENT_HOST_DEVICE inline PairTerms<Real> pair_barrier(PairKind kind, const Real* x, Real kappa,
                                                         Real dh, Real eps, PairHessian hessian) {
   const bool exact = hessian == PairHessian::exact;
-  const PairDistance<Real> dist = kind == PairKind::vertex_triangle
-                                      ? point_triangle_distance(x, exact)
-                                      : edge_edge_distance(x, exact);
+  const PairDistance<Real> dist = pair_distance(kind, x, exact);
   PairTerms<Real> out;
   const Real d = std::sqrt(dist.d2);
   out.distance = d;
@@ -102,9 +108,7 @@ DESCENT_HOST_DEVICE inline PairFrictionLag<Real> pair_friction_lag(PairKind kind
                                                                    Real kappa, Real dh, Real mu) {
   PairFrictionLag<Real> lag;
   if (!(mu > Real(0))) return lag;
-  const PairDistance<Real> dist = kind == PairKind::vertex_triangle
-                                      ? point_triangle_distance(xt, false)
-                                      : edge_edge_distance(xt, false);
+  const PairDistance<Real> dist = pair_distance(kind, xt, false);
   const Real d = std::sqrt(dist.d2);
   if (!(d > Real(0)) || d >= dh) return lag;
   lag.mu_lambda = mu * -kappa * barrier(d, dh).first;

@@ -327,9 +327,9 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
       // Contact between bodies: its pairs found again where a surface
       // vertex has drifted half its cap from where they were found (one
       // more allreduce per check, in such scenes only).
-      if (BodyContact<Real>* pairs = problem_.body_contact())
-        if (problem_.global_max(pairs->needs_rebuild() ? 1.0 : 0.0) > 0)
-          engine_->refresh_contact_pairs();
+      if (problem_.body_contact() &&
+          problem_.global_max(engine_->contact_pairs_drifted() ? 1.0 : 0.0) > 0)
+        engine_->refresh_contact_pairs();
       history.record(chebyshev_k, check.checked_energy());
       if (schedule.phi > 0) {
         // Over the last checks, and over the last windows of kWideWindow.

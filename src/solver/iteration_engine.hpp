@@ -73,6 +73,10 @@ class IterationEngine {
   virtual void accept() = 0;
   // current, previous <- checked (Chebyshev restarts from there).
   virtual void rollback() = 0;
+  // With contact between bodies: whether a surface vertex of the current
+  // iterate has drifted far enough from where its pairs were found that they
+  // must be found again (BodyContact::needs_rebuild); false without.
+  virtual bool contact_pairs_drifted() = 0;
   // Collective with contact between bodies: its pairs found again about the
   // current iterate (BodyContact::rebuild_here); nothing without.
   virtual void refresh_contact_pairs() = 0;

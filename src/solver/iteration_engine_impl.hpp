@@ -176,6 +176,12 @@ class EngineImpl final : public IterationEngine<Real> {
 
   void accept() override { exec_.copy(kMain, checked_.data(), q_[cur_].data(), checked_.bytes()); }
 
+  bool contact_pairs_drifted() override {
+    if (!bodies_) return false;
+    exec_.sync(kMain);
+    return bodies_->needs_rebuild(q_[cur_].data());
+  }
+
   void refresh_contact_pairs() override {
     if (!bodies_) return;
     exec_.sync(kMain);
