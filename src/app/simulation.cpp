@@ -285,9 +285,11 @@ std::string Simulation<Real>::body_contact_report(double step_ms) {
   char text[256];
   std::snprintf(text, sizeof text,
                 "contact between bodies %.1f%% of step time on rank 0 (%.1f ms of %.1f ms): pair "
-                "search %.1f ms, ghosts %.1f ms, terms %.1f ms, guard %.1f ms",
+                "search %.1f ms, ghosts %.1f ms, terms %.1f ms, guard %.1f ms; %ld path(s) not "
+                "proven free of crossings, rolled back",
                 step_ms > 0 ? 100 * 1e3 * total / step_ms : 0.0, 1e3 * total, step_ms,
-                1e3 * s.search, 1e3 * s.ghosts, 1e3 * s.terms, 1e3 * s.guard);
+                1e3 * s.search, 1e3 * s.ghosts, 1e3 * s.terms, 1e3 * s.guard,
+                contact->paths_caught());
   return text;
 }
 

@@ -11,11 +11,6 @@ namespace descent {
 
 namespace {
 
-// A vertex's move per iteration, as a fraction of its nearest pair's
-// distance: two sides closing at once keep 1 - 2 x 0.4 = 0.2 of the gap,
-// the share kGapKept keeps from an obstacle.
-constexpr double kMoveFraction = 0.5 * (1.0 - kGapKept<double>);
-
 double length(const double* d) { return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]); }
 
 // Adds the wall time of its scope to a counter.
@@ -91,11 +86,13 @@ void BodyContact<Real>::pull_back(const Real* qt, Real* q) {
   const index_t nv = mesh_.num_vertices();
   qt_.assign(qt, qt + 3 * static_cast<std::size_t>(nv));
   // A pair's gap closes by at most the largest difference between the
-  // moves of a vertex of one side and one of the other (its closest points
-  // move by weighted means of them): nothing for bodies moving alike. That
-  // difference is at most 2 S, S the largest distance of a move from the
-  // middle of all moves' box (two allreduces), so only pairs within
-  // dh + 4 S of each other at q_t can close by half their gap.
+  // moves of a vertex of one side and one of the other (kernels/pair_path.hpp):
+  // nothing for bodies moving alike. That difference is at most 2 S, S the
+  // largest distance of a move from the middle of all moves' box (two
+  // allreduces), so only pairs within dh + 4 S of each other at q_t can
+  // close by half their gap. A new step starts with the relative guard.
+  safe_ = false;
+  verify_paths_ = crossing_ = false;
   std::array<double, 6> box{-1e300, -1e300, -1e300, -1e300, -1e300, -1e300};
   for (index_t v = 0; v < nv; ++v)
     for (int i = 0; i < 3; ++i) {
@@ -121,27 +118,18 @@ void BodyContact<Real>::pull_back(const Real* qt, Real* q) {
   std::vector<Real> guess;
   halo_.gather(q, guess);
   const std::vector<Real>& start = halo_.positions();
-  auto move_difference = [&](index_t a, index_t b) {
-    double d[3];
-    for (int i = 0; i < 3; ++i)
-      d[i] = static_cast<double>((guess[3 * a + i] - start[3 * a + i]) -
-                                 (guess[3 * b + i] - start[3 * b + i]));
-    return length(d);
-  };
   double fraction = 1;
-  Real x[12];
+  Real x0[12], x1[12];
   for (int kind = 0; kind < 2; ++kind)
     for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
       for (int k = 0; k < 4; ++k)
-        for (int i = 0; i < 3; ++i) x[3 * k + i] = start[3 * static_cast<std::size_t>(v[k]) + i];
-      const double d = std::sqrt(static_cast<double>(
-          pair_distance(kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge, x, false).d2));
-      // Sides: the vertex and the triangle, or the two edges.
-      const int side = kind == 0 ? 1 : 2;
-      double closing = 0;
-      for (int i = 0; i < side; ++i)
-        for (int j = side; j < 4; ++j) closing = std::max(closing, move_difference(v[i], v[j]));
-      if (closing > 0.5 * d) fraction = std::min(fraction, 0.5 * d / closing);
+        for (int i = 0; i < 3; ++i) {
+          x0[3 * k + i] = start[3 * static_cast<std::size_t>(v[k]) + i];
+          x1[3 * k + i] = guess[3 * static_cast<std::size_t>(v[k]) + i];
+        }
+      const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
+      const double d = std::sqrt(static_cast<double>(pair_distance(pair_kind, x0, false).d2));
+      fraction = std::min(fraction, pair_path_fraction(pair_kind, x0, x1, d, 0.5 * d));
     }
   fraction = -reduction_.max_of(-fraction);
   if (fraction < 1)
@@ -293,6 +281,12 @@ void BodyContact<Real>::add_gradient(const Real* q, Real* partial, int width, Re
 template <class Real>
 double BodyContact<Real>::local_energy(const Real* q) {
   update_ghosts(q);
+  if (crossing_) {
+    // A path since the last check may have crossed: an energy no check
+    // accepts, so the check rolls back (the sum is not finite on any rank).
+    crossing_ = false;
+    return INFINITY;
+  }
   const Timed timed(seconds_.terms);
   double sum = 0;
   for_each_pair(true, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real kappa,
@@ -334,25 +328,117 @@ void BodyContact<Real>::add_hessian_product(const Real* q, const Real* v, Real* 
 }
 
 template <class Real>
-void BodyContact<Real>::guard(const Real* q, Real* q_next, const std::uint8_t* fixed) const {
+void BodyContact<Real>::guard(Real* q, Real* q_next, const std::uint8_t* fixed) {
+  if (safe_)
+    cut_by_nearest_gap(q, q_next, fixed);
+  else
+    cut_by_pair_paths(q_next, fixed);
   const Timed timed(seconds_.guard);
   for (index_t c = 0; c < halo_.num_local(); ++c) {
     const std::size_t v = static_cast<std::size_t>(halo_.local_vertex()[c]);
     if (fixed[v]) continue;  // held vertices follow their motion
+    // The drift cap about where the pairs were found.
+    double to[3];
+    for (int i = 0; i < 3; ++i) to[i] = static_cast<double>(q_next[3 * v + i] - anchor_[3 * c + i]);
+    const double drift = length(to);
+    if (drift > cap_) {
+      for (int i = 0; i < 3; ++i)
+        q_next[3 * v + i] = static_cast<Real>(anchor_[3 * c + i] + cap_ / drift * to[i]);
+      cut_[c] = 0;
+    }
+    if (cut_[c] < 1)
+      for (int i = 0; i < 3; ++i) q[3 * v + i] = q_next[3 * v + i];
+  }
+}
+
+template <class Real>
+void BodyContact<Real>::cut_by_pair_paths(Real* q_next, const std::uint8_t* fixed) {
+  {
+    const Timed timed(seconds_.ghosts);
+    halo_.gather(q_next, proposed_);
+  }
+  const Timed timed(seconds_.guard);
+  const std::vector<Real>& p = halo_.positions();  // q's, as add_gradient left them
+  const index_t local = halo_.num_local();
+  cut_.assign(local, 1.0);
+  Real x0[12], x1[12];
+  std::size_t pair = 0;
+  for (int kind = 0; kind < 2; ++kind)
+    for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
+      const std::size_t index = pair++;
+      for (int k = 0; k < 4; ++k)
+        for (int i = 0; i < 3; ++i) {
+          x0[3 * k + i] = p[3 * static_cast<std::size_t>(v[k]) + i];
+          x1[3 * k + i] = proposed_[3 * static_cast<std::size_t>(v[k]) + i];
+        }
+      const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
+      const double bound = gap_bound(index, v);
+      double f = 1;
+      if (!(pair_closing_rate(pair_kind, x0, x1) <= bound - pair_kept_gap<Real>(bound, dh_))) {
+        const double d = std::sqrt(static_cast<double>(pair_distance(pair_kind, x0, false).d2));
+        f = pair_path_fraction(pair_kind, x0, x1, d, pair_kept_gap<Real>(d, dh_));
+      }
+      for (index_t c : v)
+        if (c < local) cut_[c] = std::min(cut_[c], f);
+    }
+  for (index_t c = 0; c < local; ++c) {
+    const std::size_t v = static_cast<std::size_t>(halo_.local_vertex()[c]);
+    if (fixed[v] || cut_[c] == 1.0) continue;
+    for (int i = 0; i < 3; ++i)
+      q_next[3 * v + i] =
+          static_cast<Real>(p[3 * c + i] + cut_[c] * (proposed_[3 * c + i] - p[3 * c + i]));
+  }
+  verify_paths_ = true;
+}
+
+template <class Real>
+void BodyContact<Real>::cut_by_nearest_gap(const Real* q, Real* q_next, const std::uint8_t* fixed) {
+  const Timed timed(seconds_.guard);
+  cut_.assign(halo_.num_local(), 1.0);
+  for (index_t c = 0; c < halo_.num_local(); ++c) {
+    const std::size_t v = static_cast<std::size_t>(halo_.local_vertex()[c]);
+    if (fixed[v] || !std::isfinite(static_cast<double>(nearest_[c]))) continue;
     double m[3];
     for (int i = 0; i < 3; ++i) m[i] = static_cast<double>(q_next[3 * v + i] - q[3 * v + i]);
     const double move = length(m);
-    const double allowed = kMoveFraction * static_cast<double>(nearest_[c]);
+    // Each side closes at most half of what the pair may close.
+    const double g = static_cast<double>(nearest_[c]);
+    const double allowed = 0.5 * (g - pair_kept_gap<Real>(g, dh_));
     // A non-finite move is none (the energy check rejects the iterate).
     const double scale = !std::isfinite(move) ? 0.0 : (move > allowed ? allowed / move : 1.0);
-    double to[3];
-    for (int i = 0; i < 3; ++i)
-      to[i] = static_cast<double>(q[3 * v + i]) + scale * m[i] - anchor_[3 * c + i];
-    const double drift = length(to);
-    const double pull = drift > cap_ ? cap_ / drift : 1.0;
-    for (int i = 0; i < 3; ++i)
-      q_next[3 * v + i] = static_cast<Real>(anchor_[3 * c + i] + pull * to[i]);
+    if (scale == 1.0) continue;
+    cut_[c] = scale;
+    for (int i = 0; i < 3; ++i) q_next[3 * v + i] = static_cast<Real>(q[3 * v + i] + scale * m[i]);
   }
+}
+
+template <class Real>
+double BodyContact<Real>::gap_bound(std::size_t pair, const std::array<index_t, 4>& v) const {
+  if (checked_travel_[pair] < 0) return 0;  // not evaluated since the pairs were found
+  double travel = 0;
+  for (index_t c : v) travel += travel_[c];
+  return std::max(0.0, checked_distance_[pair] - (travel - checked_travel_[pair]));
+}
+
+template <class Real>
+bool BodyContact<Real>::paths_clear() const {
+  const std::vector<Real>& p = halo_.positions();
+  Real x0[12], x1[12];
+  std::size_t pair = 0;
+  for (int kind = 0; kind < 2; ++kind)
+    for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
+      const std::size_t index = pair++;
+      for (int k = 0; k < 4; ++k)
+        for (int i = 0; i < 3; ++i) {
+          x0[3 * k + i] = last_[3 * static_cast<std::size_t>(v[k]) + i];
+          x1[3 * k + i] = p[3 * static_cast<std::size_t>(v[k]) + i];
+        }
+      const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
+      if (pair_closing_rate(pair_kind, x0, x1) < gap_bound(index, v)) continue;
+      const double d = std::sqrt(static_cast<double>(pair_distance(pair_kind, x0, false).d2));
+      if (pair_path_fraction(pair_kind, x0, x1, d, 0.0) < 1) return false;
+    }
+  return true;
 }
 
 template <class Real>
@@ -373,6 +459,19 @@ template <class Real>
 void BodyContact<Real>::update_ghosts(const Real* q) {
   const Timed timed(seconds_.ghosts);
   halo_.update_ghosts(q);
+  if (verify_paths_) {
+    // The guarded iteration's paths (their checks timed with the guard).
+    const auto begin = std::chrono::steady_clock::now();
+    verify_paths_ = false;
+    if (!paths_clear()) {
+      crossing_ = safe_ = true;
+      ++paths_caught_;
+    }
+    const double spent =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    seconds_.guard += spent;
+    seconds_.ghosts -= spent;
+  }
   // Each contact vertex's path length since the pairs were found.
   const std::vector<Real>& p = halo_.positions();
   for (std::size_t c = 0; c < travel_.size(); ++c) {

@@ -11,12 +11,20 @@
 // are found again at each step's start, and after an accepted energy check
 // where a vertex has drifted cap/2 (the flag costs one allreduce per check).
 // At the step's start the guess is first pulled back along q - q_t so that
-// no pair closes by more than half its gap, bounding each pair's closing by
-// the largest difference between its two sides' moves (pull_back()). Per iteration: the ghosts'
-// positions (neighbour messages only), the terms of the pairs around this rank's vertices (each
-// sharer adds the same, as for obstacles), and the guard: every surface vertex moves at most 0.4
-// times its nearest pair's distance, so no pair closes by more than 0.8 of its gap in one
-// iteration, and no iterate crosses.
+// no pair closes by more than half its gap along that path (pull_back();
+// moves both sides share close nothing). Per iteration: the ghosts'
+// positions (neighbour messages only), the terms of the pairs around this
+// rank's vertices (each sharer adds the same, as for obstacles), and the
+// guard. The guard sends each iteration's proposed moves to the ghosts'
+// holders (one more neighbour message, 3 reals per ghost) and cuts each
+// surface vertex's move to the least fraction any of its pairs allows:
+// the share of the path along which the pair keeps pair_kept_gap() of its
+// gap (kernels/pair_path.hpp). Vertices cut by different fractions may
+// still close a pair, so at the next exchange every pair's path is proven
+// free of crossings; one that is not makes the step's next energy check
+// infinite (no extra collective): the check rolls back, and the rest of
+// the step runs the safe guard, which cuts every vertex's own move to a
+// quarter of its nearest pair's closable gap, so no two sides can cross.
 #include <array>
 #include <chrono>
 #include <vector>
@@ -27,6 +35,7 @@
 #include "contact/contact_pairs.hpp"
 #include "io/scene.hpp"
 #include "kernels/pair_contact.hpp"
+#include "kernels/pair_path.hpp"
 #include "kernels/vertex.hpp"
 
 namespace descent {
@@ -64,14 +73,18 @@ class BodyContact {
   // Records each surface vertex's nearest pair for guard().
   void add_gradient(const Real* q, Real* partial, int width, Real* diag,
                     const VertexTerms<Real>& terms, const Real* mass);
-  // This rank's share of the pairs' energy at q (each pair counted once).
+  // This rank's share of the pairs' energy at q (each pair counted once);
+  // +inf when a path since the last energy was not proven free of crossings.
   double local_energy(const Real* q);
   // The exact Hessian of the pairs at q times v, added to out (3 per vertex).
   void add_hessian_product(const Real* q, const Real* v, Real* out);
-  // The move q -> q_next of each free surface vertex cut to 0.4 times its
-  // nearest pair's distance at q (the last add_gradient) and to the step's
-  // drift cap about the guess.
-  void guard(const Real* q, Real* q_next, const std::uint8_t* fixed) const;
+  // Collective with the contact neighbours: the move q -> q_next of each
+  // free surface vertex cut as the header says (q: the last add_gradient's)
+  // and to the step's drift cap about the guess. A vertex whose move is cut
+  // gets q = q_next: the iteration's momentum (q_next - q next time) would
+  // otherwise carry it on into the pair, closing the gap by the same share
+  // every iteration however hard the barrier pushes back.
+  void guard(Real* q, Real* q_next, const std::uint8_t* fixed);
 
   double activation_distance() const { return dh_; }
 
@@ -81,6 +94,9 @@ class BodyContact {
   struct Seconds {
     double search = 0, ghosts = 0, terms = 0, guard = 0;
   };
+  // Paths between iterates this rank could not prove free of crossings
+  // (each made a check roll back), so far.
+  long paths_caught() const { return paths_caught_; }
   const Seconds& seconds() const { return seconds_; }
   // For the stats, at q: this rank's counted pairs within dh, and the least
   // distance of its pairs (1e300 without pairs).
@@ -90,8 +106,18 @@ class BodyContact {
   // The guard's anchor and the pairs' skip bounds from the halo's positions
   // now (after the pairs are found).
   void track_from_here();
-  // The halo's positions at q, timed.
+  // The halo's positions at q, timed; after a guarded iteration, each
+  // pair's path there checked.
   void update_ghosts(const Real* q);
+  // Whether every pair's straight path from last_ to the halo's positions
+  // is proven free of crossings.
+  bool paths_clear() const;
+  // A lower bound on pair's distance at last_.
+  double gap_bound(std::size_t pair, const std::array<index_t, 4>& v) const;
+  // The guards (guard()): cutting each vertex's move by the fractions of
+  // its pairs' paths (relative), or to its nearest pair's gap (safe).
+  void cut_by_pair_paths(Real* q_next, const std::uint8_t* fixed);
+  void cut_by_nearest_gap(const Real* q, Real* q_next, const std::uint8_t* fixed);
   // The pair's barrier and friction terms at x (its 12 coordinates).
   PairTerms<Real> terms_of(PairKind kind, std::size_t pair, const std::array<index_t, 4>& v,
                            const Real* x, Real kappa, PairHessian hessian) const;
@@ -112,7 +138,13 @@ class BodyContact {
   bool self_ = false;
   double mu_ = 0, eps_h_ = 0;  // contact.friction; smoothing velocity x dt
   double dh_ = 0, eps_ = 0, cap_ = 0;
-  std::vector<Real> anchor_;   // per contact vertex: the guess (local ones used)
+  std::vector<Real> anchor_;    // per contact vertex: the guess (local ones used)
+  std::vector<Real> proposed_;  // per contact vertex: the guarded iteration's q_next
+  std::vector<double> cut_;     // per local contact vertex: the guard's fraction (< 1: cut)
+  bool safe_ = false;           // the safe guard, for the rest of the step
+  bool verify_paths_ = false;   // the next update_ghosts checks the pairs' paths
+  bool crossing_ = false;       // a path was not proven; the next energy is infinite
+  long paths_caught_ = 0;
   std::vector<Real> nearest_;  // per contact vertex: its nearest pair's distance
   std::vector<Real> gathered_;
   std::vector<Real> contact_diagonal_;  // add_gradient's, 3 per local contact vertex

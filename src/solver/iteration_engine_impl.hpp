@@ -543,7 +543,7 @@ class EngineImpl final : public IterationEngine<Real> {
       loops::apply_contact_scale(exec_, kMain, contact_, direction_.data());
     loops::preconditioned_update(exec_, kMain, 3 * nv_, fixed_.data(), direction_.data(), q,
                                  q_[(c + 2) % 3].data(), q_[(c + 1) % 3].data(), params);
-    guard(q, q_[(c + 1) % 3].data());
+    guard(c);
   }
 
   // The contact terms at q joined to the assembled partials (`width` per
@@ -559,13 +559,17 @@ class EngineImpl final : public IterationEngine<Real> {
     }
   }
 
-  // No surface vertex's move from q to q_next enters an obstacle.
-  void guard(const Real* q, Real* q_next) {
+  // No surface vertex's move from buffer c to (c + 1) % 3 enters an
+  // obstacle or crosses a surface of the bodies. A vertex the bodies' guard
+  // cuts loses its momentum: buffer c is only the next iteration's previous
+  // iterate now.
+  void guard(int c) {
+    Real* q_next = q_[(c + 1) % 3].data();
     if (contact_.num_vertices > 0)
-      loops::guard_moves(exec_, kMain, contact_, fixed_.data(), q, q_next);
+      loops::guard_moves(exec_, kMain, contact_, fixed_.data(), q_[c].data(), q_next);
     if (bodies_) {
       exec_.sync(kMain);
-      bodies_->guard(q, q_next, fixed_.data());
+      bodies_->guard(q_[c].data(), q_next, fixed_.data());
     }
   }
 
@@ -580,7 +584,7 @@ class EngineImpl final : public IterationEngine<Real> {
     add_contact(q, width, refresh ? nullptr : diag_.data());
     loops::vertex_update(exec_, kMain, 3 * nv_, vertex_data(), partial_.data(), width, refresh,
                          diag_.data(), q, q_[(c + 2) % 3].data(), q_[(c + 1) % 3].data(), params);
-    guard(q, q_[(c + 1) % 3].data());
+    guard(c);
   }
 
   Exec exec_;
