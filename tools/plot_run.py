@@ -77,15 +77,22 @@ def project(points, view):
 
 
 def visible_faces(x, faces, view):
-    """The faces facing the camera, back to front, and their unit normals."""
+    """The faces facing the camera, back to front, and the normals to shade
+    them with. Culling uses each face's own normal; shading uses the mean of
+    its corners' normals (each the area-weighted sum of the faces around the
+    vertex), which smooths the stair steps of a voxelized mesh, where flat
+    shading draws every riser as a dark streak."""
     a, b, c = x[faces[:, 0]], x[faces[:, 1]], x[faces[:, 2]]
-    normals = np.cross(b - a, c - a)
-    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
+    area_normals = np.cross(b - a, c - a)
     toward = view[2]
-    front = normals @ toward > 0
+    front = area_normals @ toward > 0
     depth = (a + b + c)[front] @ toward
-    order = np.argsort(depth)  # farthest first: nearer faces paint over it
-    return np.flatnonzero(front)[order], normals[front][order]
+    order = np.flatnonzero(front)[np.argsort(depth)]  # farthest first: nearer faces paint over it
+    vertex_normals = np.stack([np.bincount(faces.ravel(), np.repeat(area_normals[:, k], 3), len(x))
+                               for k in range(3)], axis=1)
+    smooth = vertex_normals[faces[order]].sum(axis=1)
+    smooth /= np.maximum(np.linalg.norm(smooth, axis=1, keepdims=True), 1e-300)
+    return order, smooth
 
 
 def shade(rgba, normals, view):
@@ -121,20 +128,43 @@ def read_planes(scene):
     return planes
 
 
+def clip(polygon, point, n):
+    """The part of a convex polygon (rows of 3D corners) on the free side of
+    the plane through `point` with normal n (Sutherland-Hodgman, one plane)."""
+    kept = []
+    for a, b in zip(polygon, np.roll(polygon, -1, axis=0)):
+        da, db = (a - point) @ n, (b - point) @ n
+        if da >= 0:
+            kept.append(a)
+        if (da >= 0) != (db >= 0):
+            kept.append(a + da / (da - db) * (b - a))
+    return np.array(kept).reshape(-1, 3)
+
+
 def draw_planes(ax, planes, centre, size, view):
     """Each plane the camera sees from its free side, as a grey square of side
-    `size` about the body's centre. Seen from that side a plane lies behind
-    everything in the free space, so drawing it first is always right."""
-    for point, n in planes:
+    `size` about the body's centre cut to the free side of the other planes
+    (a wall ends at the floor), lit like the body (a floor and a wall differ
+    in tone). These are the far faces of the free space, a convex region: they
+    do not overlap on screen, and lie behind everything inside it, so drawing
+    them first is always right."""
+    for i, (point, n) in enumerate(planes):
         if n @ view[2] <= 0:
             continue
         on_plane = centre - ((centre - point) @ n) * n
         t1 = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 0.0, 1.0])
         t1 /= np.linalg.norm(t1)
         t2 = np.cross(n, t1)
-        corners = [on_plane + size / 2 * (s1 * t1 + s2 * t2) for s1, s2 in [(-1, -1), (1, -1), (1, 1), (-1, 1)]]
-        ax.add_collection(PolyCollection([project(np.array(corners), view)], facecolors="0.85",
-                                         edgecolors="0.6", zorder=1))
+        square = np.array([on_plane + size / 2 * (s1 * t1 + s2 * t2)
+                           for s1, s2 in [(-1, -1), (1, -1), (1, 1), (-1, 1)]])
+        for j, (other_point, other_n) in enumerate(planes):
+            if j != i:
+                square = clip(square, other_point, other_n)
+        if len(square) < 3:
+            continue
+        grey = shade(np.array([[0.9, 0.9, 0.9, 1.0]]), n[None, :], view)
+        ax.add_collection(PolyCollection([project(square, view)], facecolors=grey,
+                                         edgecolors="none", zorder=1))
 
 
 class Run:
@@ -182,6 +212,13 @@ def frame_axes(ax, box):
     ax.set_yticks([])
 
 
+def figure(width, height):
+    """A figure of exactly width x height pixels. Agg truncates inches x dpi
+    to whole pixels, so 5.06 in at 100 dpi would come out 505 wide (an odd
+    width ffmpeg's yuv420p refuses): half a pixel more truncates to the size asked."""
+    return plt.figure(figsize=((width + 0.5) / DPI, (height + 0.5) / DPI), dpi=DPI)
+
+
 def read_stats(path):
     """The numeric columns of stats.csv (`status` and the like are left out)."""
     if not path.exists():
@@ -221,8 +258,8 @@ def write_picture(run, stats, views, view, planes, size, out):
     picks = [run.names[round(i * (n - 1) / max(1, views - 1))] for i in range(min(views, n))]
     box, top, centre, extent = run.extent(picks, view)
     norm = matplotlib.colors.Normalize(0.0, top or 1.0)
-    fig = plt.figure(figsize=(size[0] / DPI, size[1] / DPI), dpi=DPI)
-    grid = fig.add_gridspec(2, 1, height_ratios=[2.2, 1], left=0.04, right=0.9, top=0.95, bottom=0.07,
+    fig = figure(*size)
+    grid = fig.add_gridspec(2, 1, height_ratios=[2.2, 1], left=0.055, right=0.9, top=0.95, bottom=0.07,
                             hspace=0.2)
     row = grid[0].subgridspec(1, len(picks), wspace=0.05)
     for i, name in enumerate(picks):
@@ -241,14 +278,24 @@ def write_picture(run, stats, views, view, planes, size, out):
     print(f"wrote {out} ({size[0]}x{size[1]}, {len(run.faces)} surface triangles)")
 
 
+def movie_size(box, height=720, bar=180, title=60):
+    """A movie frame `height` pixels tall and as wide as the view's aspect
+    needs beside a colour bar `bar` pixels wide, rounded up to even (yuv420p
+    needs even sizes): a tall helix gets a narrow movie, not white margins."""
+    aspect = (box[1] - box[0]) / (box[3] - box[2])
+    width = int(np.ceil(aspect * (height - title))) + bar
+    return width + width % 2, height
+
+
 def write_movie(run, view, planes, size, fps, out):
     """Every frame of the run, one movie frame each, H.264 in yuv420p (what
-    players expect), through ffmpeg. yuv420p needs even width and height."""
+    players expect), through ffmpeg. With no size, movie_size's."""
     box, top, centre, extent = run.extent(run.names, view)
+    width, height = size or movie_size(box)
     norm = matplotlib.colors.Normalize(0.0, top or 1.0)
-    fig = plt.figure(figsize=(size[0] / DPI, size[1] / DPI), dpi=DPI)
-    ax = fig.add_axes([0.02, 0.02, 0.84, 0.9])
-    bar = fig.add_axes([0.88, 0.2, 0.02, 0.6])
+    fig = figure(width, height)
+    ax = fig.add_axes([10 / width, 10 / height, 1 - 180 / width, 1 - 60 / height])
+    bar = fig.add_axes([1 - 150 / width, 0.2, 15 / width, 0.6])
     fig.colorbar(matplotlib.cm.ScalarMappable(norm, CMAP), cax=bar, label=field_label(run.field))
     writer = FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
     with writer.saving(fig, str(out), DPI):
@@ -261,7 +308,7 @@ def write_movie(run, view, planes, size, fps, out):
             ax.set_title(f"frame {int(name)}  t = {time:.2f} s")
             writer.grab_frame()
     plt.close(fig)
-    print(f"wrote {out} ({size[0]}x{size[1]}, {len(run.names)} frames at {fps} fps)")
+    print(f"wrote {out} ({width}x{height}, {len(run.names)} frames at {fps} fps)")
 
 
 def pixels(text):
@@ -285,7 +332,8 @@ def main():
     parser.add_argument("--azimuth", type=float, default=30.0, help="degrees about +y (default 30)")
     parser.add_argument("--elevation", type=float, default=20.0, help="degrees above the xz plane (default 20)")
     parser.add_argument("--size", type=pixels, default=(1600, 1000), help="picture size (default 1600x1000)")
-    parser.add_argument("--movie-size", type=pixels, default=(1280, 720), help="movie size (default 1280x720)")
+    parser.add_argument("--movie-size", type=pixels,
+                        help="movie size (default 720 pixels tall, as wide as the view needs)")
     parser.add_argument("--fps", type=int, default=30, help="movie frames per second (default 30)")
     args = parser.parse_args()
     if args.movie is not None and shutil.which("ffmpeg") is None:

@@ -4,11 +4,14 @@
     plot_run_check.py PLOT_RUN OUT_DIR
 
 OUT_DIR holds a run that wrote every frame. The picture must be a PNG of the
-size asked for, and the movie an H.264 MP4 of that size with one frame per
-frame group of frames.h5 (ffprobe counts the frames it decodes).
+size asked for, and the movie an H.264 MP4 of the default size (720 pixels
+tall, as wide as the view needs, rounded to even: yuv420p refuses odd sizes)
+with one frame per frame group of frames.h5 (ffprobe counts the frames it
+decodes).
 Exits 77 (the test's SKIP_RETURN_CODE) when h5py, matplotlib or ffmpeg is
 missing: CI installs them (scripts/install-deps.sh), a user's machine may not.
 """
+import importlib.util
 import shutil
 import struct
 import subprocess
@@ -17,9 +20,11 @@ from pathlib import Path
 
 try:
     import h5py
-    import matplotlib  # noqa: F401  (plot_run.py needs it; checked here to skip)
 except ImportError as error:
-    print(f"SKIP: {error} (install python3-h5py and python3-matplotlib)")
+    print(f"SKIP: {error} (install python3-h5py)")
+    sys.exit(77)
+if importlib.util.find_spec("matplotlib") is None:
+    print("SKIP: no matplotlib (install python3-matplotlib)")
     sys.exit(77)
 if shutil.which("ffmpeg") is None or shutil.which("ffprobe") is None:
     print("SKIP: no ffmpeg/ffprobe (install ffmpeg)")
@@ -54,15 +59,15 @@ def main():
     for stale in (png, mp4):
         stale.unlink(missing_ok=True)
     subprocess.run([sys.executable, str(tool), str(out), "--output", str(png), "--movie", str(mp4),
-                    "--size", "800x500", "--movie-size", "320x240", "--views", "3"], check=True)
+                    "--size", "800x500", "--views", "3"], check=True)
     with h5py.File(out / "frames.h5", "r") as f:
         frames = len(f["frames"])
     if png_size(png) != (800, 500):
         fail(f"{png} is {png_size(png)}, asked for 800x500")
-    stream = movie_stream(mp4)
-    if stream != ("h264", 320, 240, frames):
-        fail(f"{mp4}: (codec, width, height, frames) = {stream}, want ('h264', 320, 240, {frames})")
-    print(f"OK: {png} 800x500, {mp4} h264 320x240 with {frames} frames")
+    codec, width, height, decoded = movie_stream(mp4)
+    if (codec, height, decoded) != ("h264", 720, frames) or width % 2:
+        fail(f"{mp4}: {codec} {width}x{height} with {decoded} frames, want h264, an even width x 720, {frames} frames")
+    print(f"OK: {png} 800x500, {mp4} h264 {width}x{height} with {frames} frames")
 
 
 if __name__ == "__main__":
