@@ -13,8 +13,8 @@ beneath, in one PNG; with --movie also an MP4 of every written frame.
 
 Rendering is matplotlib's Agg, headless: each frame projects the surface
 orthographically, keeps the faces that face the camera, sorts them back to
-front (painter's algorithm) and draws them as one flat-shaded 2D polygon
-collection. Every frame shares one view and one colour scale, so the frames
+front (painter's algorithm) and draws them as one 2D polygon collection,
+one colour per face. Every frame shares one view and one colour scale, so the frames
 compare. --scene draws the scene's fixed plane obstacles (a floor, walls)
 behind the body; moving planes, spheres and boxes are not drawn.
 Needs Debian's python3-h5py and python3-matplotlib, and ffmpeg for --movie.
@@ -44,7 +44,8 @@ CMAP = "viridis"
 def boundary_faces(tets, rest):
     """The faces that belong to exactly one tet, wound so their normal points out
     of it at rest. A face is keyed by its sorted vertex ids packed into two int64
-    words, which np.unique sorts far faster than rows of three."""
+    words (exact below about 3e9 vertices), which np.unique sorts about twice as
+    fast as rows of three (3.3 s against 6.9 s for the 1M-tet helix)."""
     faces = np.concatenate([tets[:, [1, 2, 3]], tets[:, [0, 3, 2]], tets[:, [0, 1, 3]], tets[:, [0, 2, 1]]])
     opposite = np.concatenate([tets[:, 0], tets[:, 1], tets[:, 2], tets[:, 3]])
     s = np.sort(faces, axis=1)

@@ -7,7 +7,8 @@ OUT_DIR holds a run that wrote every frame. The picture must be a PNG of the
 size asked for, and the movie an H.264 MP4 of the default size (720 pixels
 tall, as wide as the view needs, rounded to even: yuv420p refuses odd sizes)
 with one frame per frame group of frames.h5 (ffprobe counts the frames it
-decodes).
+decodes). And the boundary surface the tool draws must enclose the mesh:
+wound outward, its divergence-theorem volume equals the tets' total volume.
 Exits 77 (the test's SKIP_RETURN_CODE) when h5py, matplotlib or ffmpeg is
 missing: CI installs them (scripts/install-deps.sh), a user's machine may not.
 """
@@ -53,8 +54,25 @@ def movie_stream(path):
     return codec, int(width), int(height), int(frames)
 
 
+def check_surface(tool, out):
+    """The enclosed volume of plot_run.boundary_faces against the tets' volume."""
+    sys.path.insert(0, str(tool.parent))
+    import numpy as np
+    from plot_run import boundary_faces
+    with h5py.File(out / "frames.h5", "r") as f:
+        tets, x = f["mesh/tets"][()], f["mesh/rest_positions"][()]
+    faces = boundary_faces(tets, x)
+    a, b, c = x[faces[:, 0]], x[faces[:, 1]], x[faces[:, 2]]
+    enclosed = np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6
+    p = x[tets]
+    total = np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))).sum() / 6
+    if not np.isclose(enclosed, total, rtol=1e-12):
+        fail(f"boundary surface encloses {enclosed}, the tets hold {total}")
+
+
 def main():
     tool, out = Path(sys.argv[1]), Path(sys.argv[2])
+    check_surface(tool, out)
     png, mp4 = out / "check.png", out / "check.mp4"
     for stale in (png, mp4):
         stale.unlink(missing_ok=True)
