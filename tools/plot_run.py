@@ -175,7 +175,9 @@ class Run:
     def __init__(self, run_dir, field):
         self.file = h5py.File(run_dir / "frames.h5", "r")
         self.field = field
-        self.faces = boundary_faces(self.file["mesh/tets"][()], self.file["mesh/rest_positions"][()])
+        tets = self.file["mesh/tets"][()]
+        self.title = f"{run_dir.resolve().name}: {len(tets)} tets, {len(self.file['frames'])} frames"
+        self.faces = boundary_faces(tets, self.file["mesh/rest_positions"][()])
         self.surface = np.unique(self.faces)
         self.names = sorted(self.file["frames"].keys())  # zero-padded: by name is by frame
 
@@ -260,7 +262,7 @@ def write_picture(run, stats, views, view, planes, size, out):
     box, top, centre, extent = run.extent(picks, view)
     norm = matplotlib.colors.Normalize(0.0, top or 1.0)
     fig = figure(*size)
-    grid = fig.add_gridspec(2, 1, height_ratios=[2.2, 1], left=0.055, right=0.9, top=0.95, bottom=0.07,
+    grid = fig.add_gridspec(2, 1, height_ratios=[2.2, 1], left=0.055, right=0.9, top=0.92, bottom=0.07,
                             hspace=0.2)
     row = grid[0].subgridspec(1, len(picks), wspace=0.05)
     for i, name in enumerate(picks):
@@ -270,6 +272,7 @@ def write_picture(run, stats, views, view, planes, size, out):
         draw_body(ax, x, values, run.faces, view, norm)
         frame_axes(ax, box)
         ax.set_title(f"frame {int(name)}  t = {time:.2f} s", fontsize=10)
+    fig.suptitle(run.title)
     bar = fig.add_axes([0.92, 0.4, 0.012, 0.5])
     fig.colorbar(matplotlib.cm.ScalarMappable(norm, CMAP), cax=bar, label=field_label(run.field))
     if stats:
