@@ -15,6 +15,7 @@ packages=(
   slurm-wlm munge python3-h5py    # tests/slurm: the job scripts under a real Slurm
   python3-matplotlib              # tests/slurm: the scaling table job's plot (tools/scaling_table.py)
   python3-meshio                  # tests/cli: frames.xdmf read as a time series
+  ffmpeg                          # tools/plot_run.py --movie encodes MP4s; tests/cli renders one
   petsc-dev                       # optional: Newton with AMG, TAO's methods (docs/petsc.md)
 )
 missing=()
