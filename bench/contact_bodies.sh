@@ -8,6 +8,7 @@
 #
 #   bench/contact_bodies.sh [BUILD_DIR]
 #   RUNS=3 FRAMES=30 bench/contact_bodies.sh
+#   SCENES="pile snowman" bench/contact_bodies.sh     # a subset
 #
 # Writes bench/results/contact/contact_bodies.csv (one line per run) and
 # contact_bodies.log (the machine, the commands, the medians).
@@ -21,8 +22,10 @@ python=${PYTHON:-/usr/bin/python3}
 out=$root/bench/results/contact
 mkdir -p "$out" "$scratch"
 log=$out/contact_bodies.log
-csv=$out/contact_bodies.csv
-echo "scene,ranks,run,frames,ms_per_frame,iterations,stalled,least_distance,contact_share,search_ms,ghosts_ms,terms_ms,guard_ms" >"$csv"
+# A subset writes its own table beside the full one.
+subset=${SCENES:+_${SCENES// /_}}
+csv=$out/contact_bodies$subset.csv
+echo "scene,ranks,run,frames,ms_per_frame,iterations,stalled,least_distance,contact_share,search_ms,ghosts_ms,terms_ms,guard_ms,paths_caught" >"$csv"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 
 cmake --build "$build" --target descent -j2 >/dev/null
@@ -35,7 +38,7 @@ bin=$build/src/app/descent
   echo "command: mpiexec -n RANKS ${bin#"$root"/} run jobs/contact/SCENE.toml --set time.frames=$frames"
 } | tee -a "$log"
 
-for scene in bodies_floor snowman bowling pile; do
+for scene in ${SCENES:-bodies_floor snowman bowling pile}; do
   for ranks in 1 2; do
     for k in $(seq 1 "$runs"); do
       dir=$scratch/$scene.$ranks.$k
@@ -51,8 +54,8 @@ stalled = sum(int(r["stalled"]) for r in rows)
 least = min(float(r["body_contact_least_distance"]) for r in rows)
 text = open(sys.argv[2]).read()
 m = re.search(r"contact between bodies ([0-9.]+)% .*pair search ([0-9.]+) ms, ghosts ([0-9.]+) ms, "
-              r"terms ([0-9.]+) ms, guard ([0-9.]+) ms", text)
-parts = list(m.groups()) if m else ["", "", "", "", ""]
+              r"terms ([0-9.]+) ms, guard ([0-9.]+) ms; ([0-9]+) path", text)
+parts = list(m.groups()) if m else ["", "", "", "", "", ""]
 print(",".join(sys.argv[3:7] + [f"{ms:.1f}", str(its), str(stalled), f"{least:.3g}"] + parts))
 PY
     done
@@ -62,10 +65,10 @@ done
 "$python" - "$csv" <<'PY' | tee -a "$log"
 import csv, statistics, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-print("scene          ranks  ms/frame (median)  iterations  stalled  least distance  contact share (median)")
+print("scene          ranks  ms/frame (median)  iterations  stalled  least distance  contact share (median)  paths caught")
 for key in sorted({(r["scene"], r["ranks"]) for r in rows}):
     mine = [r for r in rows if (r["scene"], r["ranks"]) == key]
     med = lambda f: statistics.median(float(r[f]) for r in mine)
     print(f"{key[0]:14s} {key[1]:>5s}  {med('ms_per_frame'):17.1f}  {mine[0]['iterations']:>10s}  "
-          f"{mine[0]['stalled']:>7s}  {float(mine[0]['least_distance']):14.3g}  {med('contact_share'):21.1f}%")
+          f"{mine[0]['stalled']:>7s}  {float(mine[0]['least_distance']):14.3g}  {med('contact_share'):21.1f}%  {mine[0]['paths_caught']:>12s}")
 PY
