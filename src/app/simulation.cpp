@@ -46,6 +46,8 @@ std::vector<std::string> scene_measurement_names(const Scene& scene) {
     for (const char* a : xyz) names.push_back(detail::concat("body", b, "_velocity_", a));
     for (const char* a : xyz) names.push_back(detail::concat("body", b, "_momentum_", a));
     names.push_back(detail::concat("body", b, "_kinetic"));
+    if (has_body_contact(scene))
+      for (const char* a : xyz) names.push_back(detail::concat("body", b, "_contact_force_", a));
   }
   return names;
 }
@@ -233,9 +235,10 @@ std::vector<double> Simulation<Real>::measure() {
   }
   BodyContact<Real>* pairs = problem_.body_contact();
   const std::size_t pairs_at = sums.size();
-  const std::array<double, 2> pair_stats =
-      pairs ? pairs->local_pair_stats(state_.q.data()) : std::array<double, 2>{};
-  if (pairs) sums.push_back(pair_stats[0]);
+  const typename BodyContact<Real>::PairStats pair_stats =
+      pairs ? pairs->local_pair_stats(state_.q.data()) : typename BodyContact<Real>::PairStats{};
+  if (pairs) sums.push_back(pair_stats.pairs);
+  sums.insert(sums.end(), pair_stats.force.begin(), pair_stats.force.end());
   const std::size_t bodies_at = sums.size();
   if (!scene_.bodies.empty()) {
     const std::vector<double> b = local_body_sums(local_, vertex_bodies(local_), problem_.mass(),
@@ -264,7 +267,7 @@ std::vector<double> Simulation<Real>::measure() {
   }
   if (pairs) {
     values.push_back(sums[pairs_at]);
-    values.push_back(-reduction_.max_of(-pair_stats[1]));
+    values.push_back(-reduction_.max_of(-pair_stats.least));
   }
   for (std::size_t b = 0; b < scene_.bodies.size(); ++b) {
     const double* s = &sums[bodies_at + kBodySums * b];
@@ -272,6 +275,8 @@ std::vector<double> Simulation<Real>::measure() {
     for (int d = 0; d < 3; ++d) values.push_back(s[4 + d] / s[0]);  // its velocity
     for (int d = 0; d < 3; ++d) values.push_back(s[4 + d]);         // momentum
     values.push_back(s[7]);
+    if (pairs)
+      for (int d = 0; d < 3; ++d) values.push_back(sums[pairs_at + 1 + 3 * b + d]);
   }
   return values;
 }

@@ -72,7 +72,7 @@ BodyContact<Real>::BodyContact(const LocalMesh& mesh, const Scene& scene, Halo<R
   halo_.rebuild(rest.data(), dh_, kappa_);
   pairs_ = find_contact_pairs(halo_, dh_, self_);
   track_from_here();
-  const double least = reduction.max_of(-local_pair_stats(rest.data())[1]);
+  const double least = reduction.max_of(-local_pair_stats(rest.data()).least);
   if (-least <= 0)
     throw InputError(
         "bodies touch at the start (a vertex on another body's surface, or two edges "
@@ -442,16 +442,23 @@ bool BodyContact<Real>::paths_clear() const {
 }
 
 template <class Real>
-std::array<double, 2> BodyContact<Real>::local_pair_stats(const Real* q) {
+typename BodyContact<Real>::PairStats BodyContact<Real>::local_pair_stats(const Real* q) {
   update_ghosts(q);
-  std::array<double, 2> stats{0.0, 1e300};  // pairs within dh, least distance
-  for_each_pair(
-      false, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x, Real, std::size_t) {
-        const double d = std::sqrt(static_cast<double>(pair_distance(kind, x, false).d2));
-        if (counted_here(halo_, v) && d < dh_) stats[0] += 1;
-        stats[1] = std::min(stats[1], d);
-        return -1.0;
-      });
+  PairStats stats;
+  stats.force.assign(3 * static_cast<std::size_t>(mesh_.num_bodies()), 0.0);
+  for_each_pair(false, [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x,
+                           Real kappa, std::size_t pair) {
+    const PairTerms<Real> t = terms_of(kind, pair, v, x, kappa, PairHessian::none);
+    const double d = static_cast<double>(t.distance);
+    if (counted_here(halo_, v) && d < dh_) stats.pairs += 1;
+    stats.least = std::min(stats.least, d);
+    for (int j = 0; j < 4; ++j)
+      if (halo_.owned(v[j]))
+        for (int i = 0; i < 3; ++i)
+          stats.force[3 * static_cast<std::size_t>(halo_.body()[v[j]]) + i] -=
+              static_cast<double>(t.grad[3 * j + i]);
+    return -1.0;
+  });
   return stats;
 }
 

@@ -98,9 +98,14 @@ class BodyContact {
   // (each made a check roll back), so far.
   long paths_caught() const { return paths_caught_; }
   const Seconds& seconds() const { return seconds_; }
-  // For the stats, at q: this rank's counted pairs within dh, and the least
-  // distance of its pairs (1e300 without pairs).
-  std::array<double, 2> local_pair_stats(const Real* q);
+  // For the stats, at q: this rank's counted pairs within dh, the least
+  // distance of its pairs (1e300 without pairs), and per body (xyz each)
+  // the force the pairs put on its vertices that this rank owns.
+  struct PairStats {
+    double pairs = 0, least = 1e300;
+    std::vector<double> force;
+  };
+  PairStats local_pair_stats(const Real* q);
 
  private:
   // The guard's anchor and the pairs' skip bounds from the halo's positions

@@ -1,6 +1,7 @@
 // Contact between bodies on 1 to 4 ranks (contact/body_contact.hpp): two
 // boxes thrown at each other conserve their total momentum through the
-// impact and bounce apart; at 20 m/s relative speed and dt = 1/30 no
+// impact, push each other equally and oppositely, gain no energy and bounce
+// apart; at 20 m/s relative speed and dt = 1/30 no
 // iterate of any step has them overlap; P ranks give one rank's result with
 // the contact pairs spanning ranks; bodies that touch at the start are an
 // error.
@@ -50,7 +51,7 @@ TEST(BodyContact, HeadOnImpactConservesMomentumAndBouncesApart) {
   Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
   const double p0 = measured(sim, "body0_momentum_x");
   ASSERT_GT(p0, 0.0);
-  double most_pairs = 0;
+  double most_pairs = 0, largest_push = 0;
   for (int frame = 0; frame < 30; ++frame) {
     ASSERT_TRUE(sim.step().finite) << "frame " << frame;
     const double total = measured(sim, "body0_momentum_x") + measured(sim, "body1_momentum_x");
@@ -62,8 +63,15 @@ TEST(BodyContact, HeadOnImpactConservesMomentumAndBouncesApart) {
     }
     EXPECT_GT(measured(sim, "body_contact_least_distance"), 0.0) << "frame " << frame;
     most_pairs = std::max(most_pairs, measured(sim, "body_contact_pairs"));
+    // The pairs push the two bodies equally and oppositely.
+    const double push = measured(sim, "body1_contact_force_x");
+    largest_push = std::max(largest_push, push);
+    EXPECT_LE(std::abs(measured(sim, "body0_contact_force_x") + push),
+              1e-9 * std::abs(push) + 1e-12)
+        << "frame " << frame;
   }
   EXPECT_GT(most_pairs, 0.0);                         // they did meet
+  EXPECT_GT(largest_push, 0.0);                       // body 1 pushed back towards +x
   EXPECT_LT(measured(sim, "body0_momentum_x"), 0.0);  // and bounced back
   EXPECT_LT(measured(sim, "body0_kinetic") + measured(sim, "body1_kinetic"),
             0.5 * 2 * 0.2 * 0.2 * 0.2 * 1000 * 4.0);  // losing energy, gaining none
