@@ -361,18 +361,20 @@ void BodyContact<Real>::cut_by_pair_paths(Real* q_next, const std::uint8_t* fixe
   const std::vector<Real>& p = halo_.positions();  // q's, as add_gradient left them
   const index_t local = halo_.num_local();
   cut_.assign(local, 1.0);
+  measure_moves(p, proposed_);
   Real x0[12], x1[12];
   std::size_t pair = 0;
   for (int kind = 0; kind < 2; ++kind)
     for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
       const std::size_t index = pair++;
+      const double bound = gap_bound(index, v);
+      if (moved(v) <= bound - pair_kept_gap<Real>(bound, dh_)) continue;
       for (int k = 0; k < 4; ++k)
         for (int i = 0; i < 3; ++i) {
           x0[3 * k + i] = p[3 * static_cast<std::size_t>(v[k]) + i];
           x1[3 * k + i] = proposed_[3 * static_cast<std::size_t>(v[k]) + i];
         }
       const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
-      const double bound = gap_bound(index, v);
       double f = 1;
       if (!(pair_closing_rate(pair_kind, x0, x1) <= bound - pair_kept_gap<Real>(bound, dh_))) {
         const double d = std::sqrt(static_cast<double>(pair_distance(pair_kind, x0, false).d2));
@@ -413,6 +415,21 @@ void BodyContact<Real>::cut_by_nearest_gap(const Real* q, Real* q_next, const st
 }
 
 template <class Real>
+void BodyContact<Real>::measure_moves(const std::vector<Real>& from, const std::vector<Real>& to) {
+  moves_.resize(travel_.size());
+  for (std::size_t c = 0; c < moves_.size(); ++c) {
+    double d[3];
+    for (int i = 0; i < 3; ++i) d[i] = static_cast<double>(to[3 * c + i] - from[3 * c + i]);
+    moves_[c] = length(d);
+  }
+}
+
+template <class Real>
+double BodyContact<Real>::moved(const std::array<index_t, 4>& v) const {
+  return moves_[v[0]] + moves_[v[1]] + moves_[v[2]] + moves_[v[3]];
+}
+
+template <class Real>
 double BodyContact<Real>::gap_bound(std::size_t pair, const std::array<index_t, 4>& v) const {
   if (checked_travel_[pair] < 0) return 0;  // not evaluated since the pairs were found
   double travel = 0;
@@ -421,20 +438,23 @@ double BodyContact<Real>::gap_bound(std::size_t pair, const std::array<index_t, 
 }
 
 template <class Real>
-bool BodyContact<Real>::paths_clear() const {
+bool BodyContact<Real>::paths_clear() {
   const std::vector<Real>& p = halo_.positions();
+  measure_moves(last_, p);
   Real x0[12], x1[12];
   std::size_t pair = 0;
   for (int kind = 0; kind < 2; ++kind)
     for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
       const std::size_t index = pair++;
+      const double bound = gap_bound(index, v);
+      if (moved(v) < bound) continue;
       for (int k = 0; k < 4; ++k)
         for (int i = 0; i < 3; ++i) {
           x0[3 * k + i] = last_[3 * static_cast<std::size_t>(v[k]) + i];
           x1[3 * k + i] = p[3 * static_cast<std::size_t>(v[k]) + i];
         }
       const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
-      if (pair_closing_rate(pair_kind, x0, x1) < gap_bound(index, v)) continue;
+      if (pair_closing_rate(pair_kind, x0, x1) < bound) continue;
       const double d = std::sqrt(static_cast<double>(pair_distance(pair_kind, x0, false).d2));
       if (pair_path_fraction(pair_kind, x0, x1, d, 0.0) < 1) return false;
     }

@@ -116,7 +116,12 @@ class BodyContact {
   void update_ghosts(const Real* q);
   // Whether every pair's straight path from last_ to the halo's positions
   // is proven free of crossings.
-  bool paths_clear() const;
+  bool paths_clear();
+  // moves_ <- each contact vertex's move from `from` to `to` (3 per contact
+  // vertex); moved(v): the sum over a pair's vertices, which bounds its
+  // closing rate (kernels/pair_path.hpp) without gathering its coordinates.
+  void measure_moves(const std::vector<Real>& from, const std::vector<Real>& to);
+  double moved(const std::array<index_t, 4>& v) const;
   // A lower bound on pair's distance at last_.
   double gap_bound(std::size_t pair, const std::array<index_t, 4>& v) const;
   // The guards (guard()): cutting each vertex's move by the fractions of
@@ -146,6 +151,7 @@ class BodyContact {
   std::vector<Real> anchor_;    // per contact vertex: the guess (local ones used)
   std::vector<Real> proposed_;  // per contact vertex: the guarded iteration's q_next
   std::vector<double> cut_;     // per local contact vertex: the guard's fraction (< 1: cut)
+  std::vector<double> moves_;   // per contact vertex: measure_moves()
   bool safe_ = false;           // the safe guard, for the rest of the step
   bool verify_paths_ = false;   // the next update_ghosts checks the pairs' paths
   bool crossing_ = false;       // a path was not proven; the next energy is infinite
