@@ -119,18 +119,12 @@ void BodyContact<Real>::pull_back(const Real* qt, Real* q) {
   halo_.gather(q, guess);
   const std::vector<Real>& start = halo_.positions();
   double fraction = 1;
-  Real x0[12], x1[12];
-  for (int kind = 0; kind < 2; ++kind)
-    for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
-      for (int k = 0; k < 4; ++k)
-        for (int i = 0; i < 3; ++i) {
-          x0[3 * k + i] = start[3 * static_cast<std::size_t>(v[k]) + i];
-          x1[3 * k + i] = guess[3 * static_cast<std::size_t>(v[k]) + i];
-        }
-      const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
-      const double d = std::sqrt(static_cast<double>(pair_distance(pair_kind, x0, false).d2));
-      fraction = std::min(fraction, pair_path_fraction(pair_kind, x0, x1, d, 0.5 * d));
-    }
+  for_each_path(
+      start, guess, [](std::size_t, const std::array<index_t, 4>&) { return false; },
+      [&](PairKind kind, const std::array<index_t, 4>&, const Real* x0, const Real* x1) {
+        const double d = std::sqrt(static_cast<double>(pair_distance(kind, x0, false).d2));
+        fraction = std::min(fraction, pair_path_fraction(kind, x0, x1, d, 0.5 * d));
+      });
   fraction = -reduction_.max_of(-fraction);
   if (fraction < 1)
     for (std::size_t k = 0; k < 3 * static_cast<std::size_t>(nv); ++k)
@@ -361,28 +355,18 @@ void BodyContact<Real>::cut_by_pair_paths(Real* q_next, const std::uint8_t* fixe
   const std::vector<Real>& p = halo_.positions();  // q's, as add_gradient left them
   const index_t local = halo_.num_local();
   cut_.assign(local, 1.0);
-  measure_moves(p, proposed_);
-  Real x0[12], x1[12];
-  std::size_t pair = 0;
-  for (int kind = 0; kind < 2; ++kind)
-    for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
-      const std::size_t index = pair++;
-      const double bound = gap_bound(index, v);
-      if (moved(v) <= bound - pair_kept_gap<Real>(bound, dh_)) continue;
-      for (int k = 0; k < 4; ++k)
-        for (int i = 0; i < 3; ++i) {
-          x0[3 * k + i] = p[3 * static_cast<std::size_t>(v[k]) + i];
-          x1[3 * k + i] = proposed_[3 * static_cast<std::size_t>(v[k]) + i];
-        }
-      const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
-      double f = 1;
-      if (!(pair_closing_rate(pair_kind, x0, x1) <= bound - pair_kept_gap<Real>(bound, dh_))) {
-        const double d = std::sqrt(static_cast<double>(pair_distance(pair_kind, x0, false).d2));
-        f = pair_path_fraction(pair_kind, x0, x1, d, pair_kept_gap<Real>(d, dh_));
-      }
-      for (index_t c : v)
-        if (c < local) cut_[c] = std::min(cut_[c], f);
-    }
+  for_each_path(
+      p, proposed_,
+      [&](std::size_t pair, const std::array<index_t, 4>& v) {
+        const double bound = gap_bound(pair, v);
+        return moved(v) < bound - pair_kept_gap<Real>(bound, dh_);
+      },
+      [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x0, const Real* x1) {
+        const double d = std::sqrt(static_cast<double>(pair_distance(kind, x0, false).d2));
+        const double f = pair_path_fraction(kind, x0, x1, d, pair_kept_gap<Real>(d, dh_));
+        for (index_t c : v)
+          if (c < local) cut_[c] = std::min(cut_[c], f);
+      });
   for (index_t c = 0; c < local; ++c) {
     const std::size_t v = static_cast<std::size_t>(halo_.local_vertex()[c]);
     if (fixed[v] || cut_[c] == 1.0) continue;
@@ -416,7 +400,7 @@ void BodyContact<Real>::cut_by_nearest_gap(const Real* q, Real* q_next, const st
 
 template <class Real>
 void BodyContact<Real>::measure_moves(const std::vector<Real>& from, const std::vector<Real>& to) {
-  moves_.resize(travel_.size());
+  moves_.resize(from.size() / 3);
   for (std::size_t c = 0; c < moves_.size(); ++c) {
     double d[3];
     for (int i = 0; i < 3; ++i) d[i] = static_cast<double>(to[3 * c + i] - from[3 * c + i]);
@@ -439,26 +423,36 @@ double BodyContact<Real>::gap_bound(std::size_t pair, const std::array<index_t, 
 
 template <class Real>
 bool BodyContact<Real>::paths_clear() {
-  const std::vector<Real>& p = halo_.positions();
-  measure_moves(last_, p);
+  bool clear = true;
+  for_each_path(
+      last_, halo_.positions(),
+      [&](std::size_t pair, const std::array<index_t, 4>& v) {
+        return !clear || moved(v) < gap_bound(pair, v);
+      },
+      [&](PairKind kind, const std::array<index_t, 4>&, const Real* x0, const Real* x1) {
+        const double d = std::sqrt(static_cast<double>(pair_distance(kind, x0, false).d2));
+        if (pair_path_fraction(kind, x0, x1, d, 0.0) < 1) clear = false;
+      });
+  return clear;
+}
+
+template <class Real>
+template <class Skip, class Visit>
+void BodyContact<Real>::for_each_path(const std::vector<Real>& from, const std::vector<Real>& to,
+                                      Skip&& skip, Visit&& visit) {
+  measure_moves(from, to);
   Real x0[12], x1[12];
   std::size_t pair = 0;
   for (int kind = 0; kind < 2; ++kind)
     for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
-      const std::size_t index = pair++;
-      const double bound = gap_bound(index, v);
-      if (moved(v) < bound) continue;
+      if (skip(pair++, v)) continue;
       for (int k = 0; k < 4; ++k)
         for (int i = 0; i < 3; ++i) {
-          x0[3 * k + i] = last_[3 * static_cast<std::size_t>(v[k]) + i];
-          x1[3 * k + i] = p[3 * static_cast<std::size_t>(v[k]) + i];
+          x0[3 * k + i] = from[3 * static_cast<std::size_t>(v[k]) + i];
+          x1[3 * k + i] = to[3 * static_cast<std::size_t>(v[k]) + i];
         }
-      const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
-      if (pair_closing_rate(pair_kind, x0, x1) < bound) continue;
-      const double d = std::sqrt(static_cast<double>(pair_distance(pair_kind, x0, false).d2));
-      if (pair_path_fraction(pair_kind, x0, x1, d, 0.0) < 1) return false;
+      visit(kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge, v, x0, x1);
     }
-  return true;
 }
 
 template <class Real>

@@ -121,6 +121,12 @@ class BodyContact {
   // vertex); moved(v): the sum over a pair's vertices, which bounds its
   // closing rate (kernels/pair_path.hpp) without gathering its coordinates.
   void measure_moves(const std::vector<Real>& from, const std::vector<Real>& to);
+  // visit(kind, vertices, x0, x1) with each pair's 12 coordinates in `from`
+  // and `to` (3 per contact vertex), for the pairs skip(pair index,
+  // vertices) does not settle from moves_ (measure_moves(from, to) first).
+  template <class Skip, class Visit>
+  void for_each_path(const std::vector<Real>& from, const std::vector<Real>& to, Skip&& skip,
+                     Visit&& visit);
   double moved(const std::array<index_t, 4>& v) const;
   // A lower bound on pair's distance at last_.
   double gap_bound(std::size_t pair, const std::array<index_t, 4>& v) const;
