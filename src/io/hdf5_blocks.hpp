@@ -8,6 +8,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include "common/mesh.hpp"
@@ -15,8 +16,11 @@
 
 namespace descent::hdf5 {
 
-// File access list for a file that every rank of `comm` opens.
+// File access list for a file that every rank of `comm` opens. Every
+// collective open goes through here, so HDF5's error printing is turned off
+// here too (our errors say what failed, once).
 inline Hid mpio_access(MPI_Comm comm, const std::string& where) {
+  quiet_errors();
   Hid access = owned(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "H5Pcreate", where);
   check(H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL), "H5Pset_fapl_mpio", where);
   return access;
@@ -105,6 +109,22 @@ inline void read_block(hid_t dataset, hid_t transfer, hid_t memory_type, global_
   check(H5Dread(dataset, memory_type, selection.memory_space.get(), selection.file_space.get(),
                 transfer, count == 0 ? &unused : data),
         "H5Dread", where);
+}
+
+// Runs collective I/O whose every argument was checked beforehand (shapes,
+// types, rows in range). A failure left at this point (a disk read error,
+// MPI-IO) may strike one rank alone while the others wait inside the
+// collective call, where no agreement can reach them; rather than hang, the
+// job ends: our one-line message on stderr, then MPI_Abort with status 1.
+template <class Io>
+void collective_io_or_abort(MPI_Comm comm, Io&& io) {
+  try {
+    io();
+  } catch (const Error& e) {
+    std::fprintf(stderr, "descent: error: %s\n", e.what());
+    std::fflush(stderr);
+    MPI_Abort(comm, 1);
+  }
 }
 
 }  // namespace descent::hdf5
