@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
-"""Breaks an HDF5 file that descent wrote, one way, in place, as a user or a
-failing disk might: break_h5.py FILE CASE. The cases are the partition file's
-(docs/partition.md) and the frame file's; tests/cli/binary_inputs.sh runs each
-and checks descent's one-line error."""
+"""Breaks copies of an HDF5 file that descent wrote, each one way, as a user
+or a failing disk might: break_h5.py SOURCE DIR CASE... writes DIR/CASE.h5
+for each CASE (one Python start for all: each costs most of a second). The
+cases are the partition file's (docs/partition.md) and the frame file's;
+tests/cli/binary_inputs.sh runs descent on each and checks its one error."""
+import shutil
 import sys
 
 import h5py
@@ -14,8 +16,7 @@ def replace(group, name, data):
     group.create_dataset(name, data=data)
 
 
-def main():
-    path, case = sys.argv[1], sys.argv[2]
+def break_file(path, case):
     with h5py.File(path, "r+") as f:
         if case.startswith("frames_"):
             first = sorted(f["frames"].keys())[0]
@@ -64,6 +65,14 @@ def main():
             replace(part, "tets", part["tets"][:-1, :])
         else:
             sys.exit(f"break_h5.py: unknown case {case}")
+
+
+def main():
+    source, directory = sys.argv[1], sys.argv[2]
+    for case in sys.argv[3:]:
+        path = f"{directory}/{case}.h5"
+        shutil.copyfile(source, path)
+        break_file(path, case)
 
 
 if __name__ == "__main__":
