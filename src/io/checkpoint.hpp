@@ -13,7 +13,9 @@
 //            int64 identity length, then that many bytes of text
 //            double q[dofs], v[dofs], v_prev[dofs], interpolants[tets or 0]
 //   trailer  uint64 XXH64 (common/xxhash64.hpp says why) of header and payload
-// The checksum is computed while the bytes are written, and a file is read
+// The checksum is computed over the bytes as written, while the device writes
+// them back (so it hides behind the fsync: bench/results/checkpoint_write),
+// and a file is read
 // only whole: its length, checksum, rank and rank count are verified before
 // any value is used. Whatever later joins the solver's state goes into the
 // payload, with the format version raised. Files of formats 1-3 (no
