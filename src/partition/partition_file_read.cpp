@@ -94,14 +94,14 @@ std::string offsets_error(const std::vector<global_index_t>& offsets, global_ind
   const std::string where = path + ": dataset /partition/tet_offsets: row ";
   if (offsets[0] != 0)
     return detail::concat(where, 0, ": ", offsets[0], ", but part 0 starts at 0");
-  for (std::size_t p = 1; p < offsets.size(); ++p)
-    if (offsets[p] < offsets[p - 1] || offsets[p] > tet_rows)
-      return detail::concat(
-          where, p, ": ", offsets[p],
-          offsets[p] < offsets[p - 1] ? ", less than the row before ("
-                                      : ", past the end of /partition/tet_ids (",
-          offsets[p] < offsets[p - 1] ? offsets[p - 1] : tet_rows,
-          offsets[p] < offsets[p - 1] ? "): offsets must not decrease" : " rows)");
+  for (std::size_t p = 1; p < offsets.size(); ++p) {
+    if (offsets[p] < offsets[p - 1])
+      return detail::concat(where, p, ": ", offsets[p], ", less than the row before (",
+                            offsets[p - 1], "): offsets must not decrease");
+    if (offsets[p] > tet_rows)
+      return detail::concat(where, p, ": ", offsets[p], ", past the end of /partition/tet_ids (",
+                            tet_rows, " rows)");
+  }
   if (offsets.back() != tet_rows)
     return detail::concat(where, offsets.size() - 1, ": ", offsets.back(),
                           ", but /partition/tet_ids has ", tet_rows,
@@ -200,6 +200,50 @@ void verify_each_tet_once(MPI_Comm comm, const PartitionPiece& piece, global_ind
   throw_if_any_failed(comm, error);
 }
 
+// The datasets of a partition file, each checked for presence, type and
+// shape, and their row counts against num_parts and each other.
+struct PartitionDatasets {
+  hdf5::RowsDataset offsets, stats, ids, tets, surface, positions, mesh_tets;
+};
+
+void expect_rows(const hdf5::RowsDataset& set, const char* name, global_index_t rows,
+                 const std::string& why, const std::string& path) {
+  if (set.rows != rows)
+    throw InputError(
+        detail::concat(path, ": dataset ", name, " has ", set.rows, " rows, but ", why));
+}
+
+PartitionDatasets open_datasets(hid_t file, const std::string& path, global_index_t parts) {
+  auto open = [&](const char* name, const hdf5::RowsShape& shape) {
+    return hdf5::open_rows_dataset(file, path, name, shape);
+  };
+  const char* integers = "ids and counts are integers";
+  PartitionDatasets sets;
+  sets.offsets =
+      open("/partition/tet_offsets", {1, H5T_INTEGER, "P + 1", "1 offset per row", integers});
+  sets.stats =
+      open("/partition/part_stats", {kStatsColumns, H5T_INTEGER, "P",
+                                     "tets, shared vertices, neighbours, shared pairs", integers});
+  sets.ids = open("/partition/tet_ids", {1, H5T_INTEGER, "T", "1 tet id per row", integers});
+  sets.tets = open("/partition/tets", {4, H5T_INTEGER, "T", "4 vertex ids per tet", integers});
+  sets.surface =
+      open("/partition/surface_faces", {1, H5T_INTEGER, "T", "4 face bits per tet", integers});
+  sets.positions = open("/mesh/positions", {3, H5T_FLOAT, "V", "3 coordinates per vertex",
+                                            "coordinates must be one of these"});
+  sets.mesh_tets = open("/mesh/tets", {4, H5T_INTEGER, "T", "4 vertex ids per tet", integers});
+  const std::string parts_text = detail::concat("num_parts is ", parts);
+  expect_rows(sets.offsets, "/partition/tet_offsets", parts + 1, parts_text + " (one more row)",
+              path);
+  expect_rows(sets.stats, "/partition/part_stats", parts, parts_text, path);
+  const std::string tets_text =
+      detail::concat("/partition/tet_ids has ", sets.ids.rows,
+                     ": every tet is listed once, with its vertices and surface faces");
+  expect_rows(sets.tets, "/partition/tets", sets.ids.rows, tets_text, path);
+  expect_rows(sets.surface, "/partition/surface_faces", sets.ids.rows, tets_text, path);
+  expect_rows(sets.mesh_tets, "/mesh/tets", sets.ids.rows, tets_text, path);
+  return sets;
+}
+
 // The file is a regular HDF5 file with a /partition group; every rank asks
 // (the answers are alike on a shared file system).
 void verify_partition_file(const std::string& path) {
@@ -260,57 +304,19 @@ PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
                                       piece.quality.cut_faces, ") and imbalance (",
                                       piece.quality.imbalance, ") must be finite and >= 0"));
 
-    const char* ids_meaning = "tet ids are integers";
-    const auto offsets_set = hdf5::open_rows_dataset(
-        file.get(), path, "/partition/tet_offsets",
-        {1, H5T_INTEGER, "P + 1", "1 offset per part boundary", ids_meaning});
-    const auto stats_set = hdf5::open_rows_dataset(
-        file.get(), path, "/partition/part_stats",
-        {kStatsColumns, H5T_INTEGER, "P", "tets, shared vertices, neighbours, shared pairs",
-         "counts are integers"});
-    const auto ids_set =
-        hdf5::open_rows_dataset(file.get(), path, "/partition/tet_ids",
-                                {1, H5T_INTEGER, "T", "1 tet id per row", ids_meaning});
-    const auto tets_set = hdf5::open_rows_dataset(
-        file.get(), path, "/partition/tets",
-        {4, H5T_INTEGER, "T", "4 vertex ids per tet", "vertex ids are integers"});
-    const auto surface_set = hdf5::open_rows_dataset(
-        file.get(), path, "/partition/surface_faces",
-        {1, H5T_INTEGER, "T", "4 face bits per tet", "face bits are integers"});
-    const auto positions_set = hdf5::open_rows_dataset(
-        file.get(), path, "/mesh/positions",
-        {3, H5T_FLOAT, "V", "3 coordinates per vertex", "coordinates must be one of these"});
-    const auto mesh_tets_set = hdf5::open_rows_dataset(
-        file.get(), path, "/mesh/tets",
-        {4, H5T_INTEGER, "T", "4 vertex ids per tet", "vertex ids are integers"});
-    if (offsets_set.rows != parts + 1 || stats_set.rows != parts)
-      throw InputError(
-          detail::concat(path, ": dataset /partition/",
-                         offsets_set.rows != parts + 1 ? "tet_offsets has " : "part_stats has ",
-                         offsets_set.rows != parts + 1 ? offsets_set.rows : stats_set.rows,
-                         " rows, but num_parts = ", parts, " needs ",
-                         offsets_set.rows != parts + 1 ? parts + 1 : parts));
-    for (const auto* set : {&tets_set, &surface_set, &mesh_tets_set})
-      if (set->rows != ids_set.rows)
-        throw InputError(
-            detail::concat(path, ": dataset ",
-                           set == &tets_set      ? "/partition/tets"
-                           : set == &surface_set ? "/partition/surface_faces"
-                                                 : "/mesh/tets",
-                           " has ", set->rows, " rows, but /partition/tet_ids has ", ids_set.rows,
-                           ": every tet is listed once, with its vertices and surface faces"));
-    piece.num_global_tets = ids_set.rows;
-    piece.num_global_vertices = positions_set.rows;
+    const PartitionDatasets sets = open_datasets(file.get(), path, parts);
+    piece.num_global_tets = sets.ids.rows;
+    piece.num_global_vertices = sets.positions.rows;
 
     Hid transfer = hdf5::collective_transfer(where);
     std::vector<global_index_t> offsets(size + 1), stats(kStatsColumns * size);
     hdf5::collective_io_or_abort(comm, [&] {
-      hdf5::read_block(offsets_set.dataset.get(), transfer.get(), H5T_NATIVE_INT64, 0, size + 1, 1,
+      hdf5::read_block(sets.offsets.dataset.get(), transfer.get(), H5T_NATIVE_INT64, 0, size + 1, 1,
                        offsets.data(), where + "/tet_offsets");
-      hdf5::read_block(stats_set.dataset.get(), transfer.get(), H5T_NATIVE_INT64, 0, size,
+      hdf5::read_block(sets.stats.dataset.get(), transfer.get(), H5T_NATIVE_INT64, 0, size,
                        kStatsColumns, stats.data(), where + "/part_stats");
     });
-    if (std::string error = offsets_error(offsets, ids_set.rows, path); !error.empty())
+    if (std::string error = offsets_error(offsets, sets.ids.rows, path); !error.empty())
       throw InputError(error);
     if (std::string error = stats_error(stats, offsets, path); !error.empty())
       throw InputError(error);
@@ -334,13 +340,13 @@ PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
     piece.first_vertex = blocks.begin(rank);
     piece.block_positions.resize(3 * static_cast<std::size_t>(blocks.size(rank)));
     hdf5::collective_io_or_abort(comm, [&] {
-      hdf5::read_block(ids_set.dataset.get(), transfer.get(), H5T_NATIVE_INT64, first_row, count, 1,
-                       tets.ids.data(), where + "/tet_ids");
-      hdf5::read_block(tets_set.dataset.get(), transfer.get(), H5T_NATIVE_INT64, first_row, count,
+      hdf5::read_block(sets.ids.dataset.get(), transfer.get(), H5T_NATIVE_INT64, first_row, count,
+                       1, tets.ids.data(), where + "/tet_ids");
+      hdf5::read_block(sets.tets.dataset.get(), transfer.get(), H5T_NATIVE_INT64, first_row, count,
                        4, tets.vertices.data(), where + "/tets");
-      hdf5::read_block(surface_set.dataset.get(), transfer.get(), H5T_NATIVE_INT64, first_row,
+      hdf5::read_block(sets.surface.dataset.get(), transfer.get(), H5T_NATIVE_INT64, first_row,
                        count, 1, surface.data(), where + "/surface_faces");
-      hdf5::read_block(positions_set.dataset.get(), transfer.get(), H5T_NATIVE_DOUBLE,
+      hdf5::read_block(sets.positions.dataset.get(), transfer.get(), H5T_NATIVE_DOUBLE,
                        piece.first_vertex, blocks.size(rank), 3, piece.block_positions.data(),
                        path + ":/mesh/positions");
     });
