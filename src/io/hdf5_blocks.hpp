@@ -8,7 +8,6 @@
 #include <mpi.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <string>
 
 #include "common/mesh.hpp"
@@ -31,7 +30,10 @@ inline Hid mpio_access(MPI_Comm comm, const std::string& where) {
 // a node on its aggregator (rank 0 on one node) in buffers of tens of MB,
 // which made rank 0 the largest rank of a run by 17% (1M-tet helix on 8
 // ranks), and a contiguous block per rank gains nothing from it (measured:
-// the same time per frame within the noise).
+// the same time per frame within the noise). The readers use it for a
+// second reason: a read that fails on one rank (a disk error, MPI-IO)
+// leaves no other rank waiting inside a collective call, so the ranks can
+// agree on the failure afterwards and end with one message.
 inline Hid independent_transfer(const std::string& where) {
   Hid transfer = owned(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "H5Pcreate", where);
   check(H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_INDEPENDENT), "H5Pset_dxpl_mpio", where);
@@ -109,22 +111,6 @@ inline void read_block(hid_t dataset, hid_t transfer, hid_t memory_type, global_
   check(H5Dread(dataset, memory_type, selection.memory_space.get(), selection.file_space.get(),
                 transfer, count == 0 ? &unused : data),
         "H5Dread", where);
-}
-
-// Runs collective I/O whose every argument was checked beforehand (shapes,
-// types, rows in range). A failure left at this point (a disk read error,
-// MPI-IO) may strike one rank alone while the others wait inside the
-// collective call, where no agreement can reach them; rather than hang, the
-// job ends: our one-line message on stderr, then MPI_Abort with status 1.
-template <class Io>
-void collective_io_or_abort(MPI_Comm comm, Io&& io) {
-  try {
-    io();
-  } catch (const Error& e) {
-    std::fprintf(stderr, "descent: error: %s\n", e.what());
-    std::fflush(stderr);
-    MPI_Abort(comm, 1);
-  }
 }
 
 }  // namespace descent::hdf5

@@ -217,7 +217,7 @@ MeshSlice read_mesh_h5(MPI_Comm comm, const std::string& path) {
     Hid access = hdf5::mpio_access(comm, path);
     Hid file =
         owned(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), H5Fclose, "H5Fopen", path);
-    Hid transfer = hdf5::collective_transfer(path);
+    Hid transfer = hdf5::independent_transfer(path);
     const hdf5::RowsDataset tets = hdf5::open_rows_dataset(file.get(), path, kTets, kTetsShape);
     const hdf5::RowsDataset positions =
         hdf5::open_rows_dataset(file.get(), path, kPositions, kPositionsShape);
@@ -231,13 +231,17 @@ MeshSlice read_mesh_h5(MPI_Comm comm, const std::string& path) {
     slice.tets.resize(4 * static_cast<std::size_t>(tet_blocks.size(rank)));
     slice.first_vertex = vertex_blocks.begin(rank);
     slice.positions.resize(3 * static_cast<std::size_t>(vertex_blocks.size(rank)));
-    hdf5::collective_io_or_abort(comm, [&] {
+    std::string read_error;  // this rank's, agreed on by every rank below
+    try {
       hdf5::read_block(tets.dataset.get(), transfer.get(), H5T_NATIVE_INT64, slice.first_tet,
                        tet_blocks.size(rank), 4, slice.tets.data(), path + ":" + kTets);
       hdf5::read_block(positions.dataset.get(), transfer.get(), H5T_NATIVE_DOUBLE,
                        slice.first_vertex, vertex_blocks.size(rank), 3, slice.positions.data(),
                        path + ":" + kPositions);
-    });
+    } catch (const Hdf5Error& e) {
+      read_error = e.what();
+    }
+    throw_if_any_failed<Hdf5Error>(comm, read_error);
   }
   verify_rows(slice, path);
   return slice;

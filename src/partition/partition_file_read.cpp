@@ -6,8 +6,9 @@
 //     rank reads its rows, so every rank throws alike and none is left in a
 //     collective call;
 //  2. the rows of this rank's part (ids, vertices, surface bits, its block of
-//     positions), read collectively once step 1 proved them in range, then
-//     checked by each rank, which agree on the outcome;
+//     positions), read once step 1 proved them in range (independent reads:
+//     a rank whose read fails is agreed on, never waited for), then checked
+//     by each rank, which agree on the outcome;
 //  3. every tet of the mesh listed by exactly one part, collectively.
 #include <hdf5.h>
 
@@ -308,14 +309,20 @@ PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
     piece.num_global_tets = sets.ids.rows;
     piece.num_global_vertices = sets.positions.rows;
 
-    Hid transfer = hdf5::collective_transfer(where);
+    // Independent reads (io/hdf5_blocks.hpp says why); a rank's failed read
+    // is agreed on by every rank before any goes on.
+    Hid transfer = hdf5::independent_transfer(where);
     std::vector<global_index_t> offsets(size + 1), stats(kStatsColumns * size);
-    hdf5::collective_io_or_abort(comm, [&] {
+    std::string read_error;
+    try {
       hdf5::read_block(sets.offsets.dataset.get(), transfer.get(), H5T_NATIVE_INT64, 0, size + 1, 1,
                        offsets.data(), where + "/tet_offsets");
       hdf5::read_block(sets.stats.dataset.get(), transfer.get(), H5T_NATIVE_INT64, 0, size,
                        kStatsColumns, stats.data(), where + "/part_stats");
-    });
+    } catch (const Hdf5Error& e) {
+      read_error = e.what();
+    }
+    throw_if_any_failed<Hdf5Error>(comm, read_error);
     if (std::string error = offsets_error(offsets, sets.ids.rows, path); !error.empty())
       throw InputError(error);
     if (std::string error = stats_error(stats, offsets, path); !error.empty())
@@ -339,7 +346,8 @@ PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
     const BlockRange blocks(piece.num_global_vertices, size);
     piece.first_vertex = blocks.begin(rank);
     piece.block_positions.resize(3 * static_cast<std::size_t>(blocks.size(rank)));
-    hdf5::collective_io_or_abort(comm, [&] {
+    read_error.clear();
+    try {
       hdf5::read_block(sets.ids.dataset.get(), transfer.get(), H5T_NATIVE_INT64, first_row, count,
                        1, tets.ids.data(), where + "/tet_ids");
       hdf5::read_block(sets.tets.dataset.get(), transfer.get(), H5T_NATIVE_INT64, first_row, count,
@@ -349,7 +357,10 @@ PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
       hdf5::read_block(sets.positions.dataset.get(), transfer.get(), H5T_NATIVE_DOUBLE,
                        piece.first_vertex, blocks.size(rank), 3, piece.block_positions.data(),
                        path + ":/mesh/positions");
-    });
+    } catch (const Hdf5Error& e) {
+      read_error = e.what();
+    }
+    throw_if_any_failed<Hdf5Error>(comm, read_error);
   }
   throw_if_any_failed(comm, rows_error(piece, surface, first_row, path));
   piece.tets.surface_faces.assign(surface.begin(), surface.end());
