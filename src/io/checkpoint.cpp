@@ -276,6 +276,9 @@ Checkpoint read_checkpoint(const std::string& path, int rank, int num_ranks) {
   c.num_global_tets = in.get<std::int64_t>();
   const auto dofs = in.get<std::int64_t>();
   const auto tets = in.get<std::int64_t>();
+  // Only a faulty writer (or a forged checksum) gets past the checks above
+  // with these wrong.
+  if (c.frame < 0 || dofs % 3 != 0) throw in.inconsistent();
   c.time = in.get<double>();
   c.alpha = in.get<double>();
   c.lambda_min = in.get<double>();

@@ -126,7 +126,7 @@ void verify_file_on_rank0(MPI_Comm comm, const std::string& path) {
     } else {
       const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
       if (file < 0) {
-        error = detail::concat(path, ": HDF5 cannot open it");
+        error = detail::concat(path, ": HDF5 cannot open it: ", hdf5::innermost_error());
       } else {
         for (const char* dataset : {kTets, kPositions}) {
           if (H5Lexists(file, "/mesh", H5P_DEFAULT) <= 0 ||
