@@ -21,6 +21,7 @@ class XxHash64 {
   // Adds `size` bytes at `data`; any split of a byte stream into calls gives
   // the same digest.
   void update(const void* data, std::size_t size) {
+    if (size == 0) return;  // `data` may then be null (an empty vector's), no memcpy from it
     const auto* p = static_cast<const unsigned char*>(data);
     total_ += size;
     if (buffered_ + size < kStripe) {  // not a whole stripe yet: keep the bytes

@@ -144,6 +144,7 @@ class PayloadReader {
     if (count < 0 || static_cast<std::uint64_t>(count) > (end_ - at_) / sizeof(double))
       throw inconsistent();
     std::vector<double> values(static_cast<std::size_t>(count));
+    if (count == 0) return values;  // data() may be null: no memcpy from or to it
     std::memcpy(values.data(), take(values.size() * sizeof(double)),
                 values.size() * sizeof(double));
     return values;
