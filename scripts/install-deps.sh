@@ -12,7 +12,8 @@ packages=(
   libgtest-dev
   libtomlplusplus-dev             # scene files
   libcli11-dev                    # command line
-  slurm-wlm munge python3-h5py    # tests/slurm: the job scripts under a real Slurm
+  slurm-wlm munge                 # tests/slurm: the job scripts under a real Slurm
+  python3-h5py                    # tests/slurm; tests/cli/break_h5.py: HDF5 files broken on purpose
   python3-matplotlib              # tests/slurm: the scaling table job's plot (tools/scaling_table.py)
   python3-meshio                  # tests/cli: frames.xdmf read as a time series
   ffmpeg                          # tools/plot_run.py --movie encodes MP4s; tests/cli renders one

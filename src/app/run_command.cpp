@@ -14,6 +14,7 @@
 #include "app/memory_report.hpp"
 #include "app/mesh_setup.hpp"
 #include "app/non_finite_stop.hpp"
+#include "app/restart_checkpoint.hpp"
 #include "app/run_identity.hpp"
 #include "app/simulation.hpp"
 #include "app/stop_request.hpp"
@@ -65,70 +66,6 @@ void report_fixed_regions(MPI_Comm comm, const Scene& scene, const LocalMesh& lo
       inform("fixed.%zu: %lld vertices in [%g, %g, %g] - [%g, %g, %g], axes %s", r, count[r], lo[0],
              lo[1], lo[2], hi[0], hi[1], hi[2], region.axes.c_str());
   }
-}
-
-// Why a restart finds no checkpoint of this rank count: a run on another
-// rank count (named), no checkpoints at all, or no such directory.
-std::string missing_checkpoint(const std::string& dir, int size) {
-  namespace fs = std::filesystem;
-  const fs::path where = fs::path(dir) / "checkpoint";
-  std::error_code listed;
-  std::vector<int> counts;
-  for (const auto& entry : fs::directory_iterator(where, listed)) {
-    int ranks = 0;
-    if (std::sscanf(entry.path().filename().c_str(), "rank-0-of-%d.bin", &ranks) == 1 &&
-        entry.path().extension() == ".bin")
-      counts.push_back(ranks);
-  }
-  if (listed)
-    return detail::concat("--restart: ", where.string(), " does not exist: is ", dir,
-                          " the output directory of the run to continue?");
-  if (counts.empty())
-    return detail::concat("--restart: ", where.string(),
-                          " holds no checkpoint (the run wrote none: output.checkpoint_every = 0, "
-                          "or it stopped before its first)");
-  std::sort(counts.begin(), counts.end());
-  std::string found;
-  for (int c : counts) found += (found.empty() ? "" : ", ") + std::to_string(c);
-  return detail::concat("--restart: ", where.string(), " holds checkpoints of a run on ", found,
-                        " rank(s), not ", size, ": restart it on ", counts.front(), " rank(s)");
-}
-
-// The checkpoint --restart continues from: the newest frame every rank has
-// one of (a kill between two ranks' writes leaves some one newer), refused
-// unless it belongs to this run. Collective.
-Checkpoint restart_checkpoint(MPI_Comm comm, const std::string& dir, const std::string& identity) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  const std::string path = checkpoint_path(dir, rank, size);
-  const std::vector<Checkpoint> generations = agree(comm, [&] {
-    namespace fs = std::filesystem;
-    if (!fs::exists(path) && !fs::exists(path + ".prev"))
-      throw InputError(missing_checkpoint(dir, size));
-    return read_checkpoint_generations(path);
-  });
-  int frame = generations.front().frame;
-  MPI_Allreduce(MPI_IN_PLACE, &frame, 1, MPI_INT, MPI_MIN, comm);
-  return agree(comm, [&] {
-    const auto chosen = std::find_if(generations.begin(), generations.end(),
-                                     [frame](const Checkpoint& c) { return c.frame == frame; });
-    if (chosen == generations.end())
-      throw InputError(
-          detail::concat("rank ", rank, " has no checkpoint of frame ", frame, " in ", path));
-    if (chosen->identity.empty()) {
-      if (rank == 0)
-        warn("%s predates run identities: whether it belongs to this scene is not checked",
-             path.c_str());
-    } else if (const std::string differs = identity_difference(chosen->identity, identity);
-               !differs.empty()) {
-      throw InputError(detail::concat(
-          "--restart: ", path, " belongs to another run: ", differs,
-          ". Restart with the scene, mesh and precision that made it (a restart may change "
-          "time.frames, output.every and output.checkpoint_every)"));
-    }
-    return *chosen;
-  });
 }
 
 // The directory this run writes to: `dir` unless it already holds a run

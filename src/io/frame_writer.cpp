@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -23,6 +24,7 @@
 #include "io/block_routing.hpp"
 #include "io/hdf5_blocks.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/hdf5_rows.hpp"
 #include "io/number_text.hpp"
 
 namespace descent {
@@ -36,6 +38,17 @@ using hdf5::owned;
 constexpr const char* kH5Name = "frames.h5";
 constexpr const char* kXdmfName = "frames.xdmf";
 constexpr int kLastFrame = 999999;  // frame groups are named with 6 digits
+
+// A continued run writes on into DIR/frames.h5, which must be there and be
+// HDF5 (every rank asks; the answers are alike on a shared file system).
+void verify_resumable(const std::string& h5) {
+  std::error_code ignored;
+  if (!fs::is_regular_file(h5, ignored))
+    throw InputError(h5 + ": missing: --restart continues the run whose output holds it");
+  hdf5::quiet_errors();
+  if (H5Fis_hdf5(h5.c_str()) <= 0)
+    throw InputError(h5 + ": not an HDF5 file: --restart cannot continue its frames");
+}
 
 // A caller's mistake seen on any rank throws on every rank, so that no rank is
 // left waiting in a collective call for one that gave up.
@@ -179,6 +192,7 @@ FrameWriter::Impl::Impl(MPI_Comm comm_, const std::string& dir_, const FrameWrit
 
   create_output_directory();
   const std::string h5 = (dir / kH5Name).string();
+  if (resume_after >= 0) verify_resumable(h5);
   {
     Hid access = hdf5::mpio_access(comm, h5);
     // Default format bounds on purpose: the newest superblock marks a file as
@@ -247,29 +261,92 @@ herr_t collect_name(hid_t, const char* name, const H5L_info_t*, void* names) {
   static_cast<std::vector<std::string>*>(names)->emplace_back(name);
   return 0;
 }
+
+// A frame group kept by a continued run: its number and time.
+struct KeptFrame {
+  std::string name;
+  double time = 0;
+};
+
+// The time attribute of a frame group: one finite float.
+double frame_time(hid_t frames, const std::string& name, const std::string& where) {
+  if (H5Aexists_by_name(frames, name.c_str(), "time", H5P_DEFAULT) <= 0)
+    throw InputError(where + ": no attribute time");
+  Hid attribute = owned(H5Aopen_by_name(frames, name.c_str(), "time", H5P_DEFAULT, H5P_DEFAULT),
+                        H5Aclose, "H5Aopen_by_name", where + " attribute time");
+  Hid type = owned(H5Aget_type(attribute.get()), H5Tclose, "H5Aget_type", where);
+  Hid space = owned(H5Aget_space(attribute.get()), H5Sclose, "H5Aget_space", where);
+  double time = 0;
+  if (H5Tget_class(type.get()) != H5T_FLOAT || H5Sget_simple_extent_npoints(space.get()) != 1)
+    throw InputError(where + ": attribute time is not one float");
+  check(H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, &time), "H5Aread", where + " attribute time");
+  if (!std::isfinite(time)) throw InputError(where + ": attribute time is not finite");
+  return time;
+}
+
+// What a continued run finds in frames.h5, checked before it changes
+// anything: this run's mesh, and under /frames only groups named by six
+// digits; those up to frame `last` (kept) with a finite time and [V, 3]
+// float datasets. Every rank reads the same metadata and throws alike.
+// Returns the kept frames; `later` receives the names of the others.
+std::vector<KeptFrame> verify_frames_file(hid_t file, const std::string& h5,
+                                          global_index_t vertices, global_index_t tets, int last,
+                                          std::vector<std::string>& later) {
+  const hdf5::RowsShape vertex_rows{3, H5T_FLOAT, "V", "3 values per vertex",
+                                    "frames hold float64 values"};
+  const hdf5::RowsShape tet_rows{4, H5T_INTEGER, "T", "4 vertex ids per tet",
+                                 "vertex ids must be integers"};
+  auto expect_rows = [&](const std::string& name, const hdf5::RowsShape& shape,
+                         global_index_t rows) {
+    const hdf5::RowsDataset set = hdf5::open_rows_dataset(file, h5, name, shape);
+    if (set.rows != rows)
+      throw InputError(detail::concat(h5, ": ", name, " has ", set.rows,
+                                      " rows, but this run's mesh has ", rows,
+                                      shape.cols == 4 ? " tets" : " vertices",
+                                      ": --restart continues the run that wrote this file"));
+  };
+  expect_rows("/mesh/rest_positions", vertex_rows, vertices);
+  expect_rows("/mesh/tets", tet_rows, tets);
+  if (!hdf5::object_exists(file, "/frames"))
+    throw InputError(h5 + ": no group /frames: not the frames of a descent run");
+  Hid frames = owned(H5Gopen2(file, "/frames", H5P_DEFAULT), H5Gclose, "H5Gopen2", h5 + ":/frames");
+  std::vector<std::string> names;  // zero-padded, so by name is by frame
+  check(H5Literate(frames.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_name, &names),
+        "H5Literate", h5 + ":/frames");
+  std::vector<KeptFrame> kept;
+  for (const std::string& name : names) {
+    const std::string where = h5 + ":/frames/" + name;
+    const bool six_digits = name.size() == 6 && std::all_of(name.begin(), name.end(), [](char c) {
+                              return c >= '0' && c <= '9';
+                            });
+    if (!six_digits)
+      throw InputError(where + ": not a frame (frames are named by six digits, e.g. 000010)");
+    if (std::stoi(name) > last) {
+      later.push_back(name);
+      continue;
+    }
+    for (const char* dataset : {"positions", "displacement", "velocity"})
+      expect_rows("/frames/" + name + "/" + dataset, vertex_rows, vertices);
+    kept.push_back({name, frame_time(frames.get(), name, where)});
+  }
+  return kept;
+}
+
 }  // namespace
 
 void FrameWriter::Impl::resume(int last) {
   const std::string h5 = (dir / kH5Name).string();
+  std::vector<std::string> later;
+  const std::vector<KeptFrame> kept =
+      verify_frames_file(file.get(), h5, num_vertices, num_tets, last, later);
   Hid frames =
       owned(H5Gopen2(file.get(), "/frames", H5P_DEFAULT), H5Gclose, "H5Gopen2", h5 + ":/frames");
-  std::vector<std::string> names;  // zero-padded, so by name is by frame
-  check(H5Literate(frames.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_name, &names),
-        "H5Literate", h5 + ":/frames");
-  for (const std::string& name : names) {
-    const std::string where = h5 + ":/frames/" + name;
-    if (std::stoi(name) > last) {
-      check(H5Ldelete(frames.get(), name.c_str(), H5P_DEFAULT), "H5Ldelete", where);
-      continue;
-    }
-    if (rank != 0) continue;
-    Hid attribute =
-        owned(H5Aopen_by_name(frames.get(), name.c_str(), "time", H5P_DEFAULT, H5P_DEFAULT),
-              H5Aclose, "H5Aopen_by_name", where + " attribute time");
-    double time = 0;
-    check(H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, &time), "H5Aread", where);
-    xdmf_grids += xdmf_grid(std::stoi(name), time, num_vertices, num_tets, xdmf_grids.empty());
-  }
+  for (const std::string& name : later)
+    check(H5Ldelete(frames.get(), name.c_str(), H5P_DEFAULT), "H5Ldelete", h5 + ":/frames/" + name);
+  if (rank == 0)
+    for (const KeptFrame& frame : kept)
+      xdmf_grids +=
+          xdmf_grid(std::stoi(frame.name), frame.time, num_vertices, num_tets, xdmf_grids.empty());
   check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush", h5);
   int error = 0;
   if (rank == 0) error = write_file_atomically(dir / kXdmfName, xdmf_document(xdmf_grids));

@@ -15,8 +15,11 @@
 
 namespace descent::hdf5 {
 
-// File access list for a file that every rank of `comm` opens.
+// File access list for a file that every rank of `comm` opens. Every
+// collective open goes through here, so HDF5's error printing is turned off
+// here too (our errors say what failed, once).
 inline Hid mpio_access(MPI_Comm comm, const std::string& where) {
+  quiet_errors();
   Hid access = owned(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "H5Pcreate", where);
   check(H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL), "H5Pset_fapl_mpio", where);
   return access;
@@ -27,7 +30,10 @@ inline Hid mpio_access(MPI_Comm comm, const std::string& where) {
 // a node on its aggregator (rank 0 on one node) in buffers of tens of MB,
 // which made rank 0 the largest rank of a run by 17% (1M-tet helix on 8
 // ranks), and a contiguous block per rank gains nothing from it (measured:
-// the same time per frame within the noise).
+// the same time per frame within the noise). The readers use it for a
+// second reason: a read that fails on one rank (a disk error, MPI-IO)
+// leaves no other rank waiting inside a collective call, so the ranks can
+// agree on the failure afterwards and end with one message.
 inline Hid independent_transfer(const std::string& where) {
   Hid transfer = owned(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "H5Pcreate", where);
   check(H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_INDEPENDENT), "H5Pset_dxpl_mpio", where);

@@ -17,6 +17,7 @@
 #include "common/error.hpp"
 #include "io/hdf5_blocks.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/hdf5_rows.hpp"
 
 namespace descent {
 namespace {
@@ -108,22 +109,6 @@ void write_xdmf(MPI_Comm comm, const MeshSlice& slice, const std::string& path) 
   throw_if_rank0_failed(comm, error);
 }
 
-// Stops HDF5 printing its error stack while probing what may not exist.
-class QuietHdf5Errors {
- public:
-  QuietHdf5Errors() {
-    H5Eget_auto2(H5E_DEFAULT, &print_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, print_, data_); }
-  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
-  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
-
- private:
-  H5E_auto2_t print_ = nullptr;
-  void* data_ = nullptr;
-};
-
 // Rank 0 checks that `path` is an HDF5 file with both datasets; each problem
 // is thrown on every rank. (Ranks share the file system, so they would all
 // find the same; asking once keeps the message single and the ranks in step.)
@@ -132,7 +117,7 @@ void verify_file_on_rank0(MPI_Comm comm, const std::string& path) {
   MPI_Comm_rank(comm, &rank);
   std::string error;
   if (rank == 0) {
-    QuietHdf5Errors quiet;
+    hdf5::quiet_errors();
     std::error_code ignored;
     if (!fs::is_regular_file(path, ignored)) {
       error = detail::concat(path, ": no such file");
@@ -141,7 +126,7 @@ void verify_file_on_rank0(MPI_Comm comm, const std::string& path) {
     } else {
       const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
       if (file < 0) {
-        error = detail::concat(path, ": HDF5 cannot open it");
+        error = detail::concat(path, ": HDF5 cannot open it: ", hdf5::innermost_error());
       } else {
         for (const char* dataset : {kTets, kPositions}) {
           if (H5Lexists(file, "/mesh", H5P_DEFAULT) <= 0 ||
@@ -159,46 +144,11 @@ void verify_file_on_rank0(MPI_Comm comm, const std::string& path) {
   throw_if_rank0_failed(comm, error);
 }
 
-// Opens `name` and checks it holds [rows, cols] values of `type_class`
-// (integers of any width, or float32 / float64). Every rank reads the same
-// metadata, so every rank throws alike. Returns the dataset and its rows.
-struct RowsDataset {
-  Hid dataset;
-  global_index_t rows = 0;
-};
-
-RowsDataset open_rows_dataset(hid_t file, const std::string& path, const char* name, int cols,
-                              H5T_class_t type_class) {
-  const std::string where = path + ":" + name;
-  RowsDataset opened;
-  opened.dataset = owned(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose, "H5Dopen2", where);
-  Hid type = owned(H5Dget_type(opened.dataset.get()), H5Tclose, "H5Dget_type", where);
-  const H5T_class_t found_class = H5Tget_class(type.get());
-  const std::size_t bytes = H5Tget_size(type.get());
-  if (type_class == H5T_INTEGER && found_class != H5T_INTEGER)
-    throw InputError(
-        detail::concat(path, ": ", name, " does not hold integers; vertex ids must be integers"));
-  if (type_class == H5T_FLOAT && (found_class != H5T_FLOAT || (bytes != 4 && bytes != 8)))
-    throw InputError(detail::concat(path, ": ", name,
-                                    " does not hold float32 or float64 values; coordinates "
-                                    "must be one of these"));
-
-  Hid space = owned(H5Dget_space(opened.dataset.get()), H5Sclose, "H5Dget_space", where);
-  const int rank =
-      check(H5Sget_simple_extent_ndims(space.get()), "H5Sget_simple_extent_ndims", where);
-  std::vector<hsize_t> dims(std::max(rank, 0));
-  check(H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr), "H5Sget_simple_extent_dims",
-        where);
-  if (rank != 2 || dims[1] != static_cast<hsize_t>(cols)) {
-    std::ostringstream shape;
-    for (std::size_t d = 0; d < dims.size(); ++d) shape << (d ? ", " : "") << dims[d];
-    throw InputError(detail::concat(
-        path, ": ", name, " has shape [", shape.str(), "], expected [", cols == 4 ? "T" : "V", ", ",
-        cols, "] (", cols, cols == 4 ? " vertex ids per tet)" : " coordinates per vertex)"));
-  }
-  opened.rows = static_cast<global_index_t>(dims[0]);
-  return opened;
-}
+// The two datasets of a mesh file.
+const hdf5::RowsShape kTetsShape{4, H5T_INTEGER, "T", "4 vertex ids per tet",
+                                 "vertex ids must be integers"};
+const hdf5::RowsShape kPositionsShape{3, H5T_FLOAT, "V", "3 coordinates per vertex",
+                                      "coordinates must be one of these"};
 
 // The checks of the rows a rank read; a failure throws on this rank alone.
 void verify_rows(const MeshSlice& slice, const std::string& path) {
@@ -267,9 +217,10 @@ MeshSlice read_mesh_h5(MPI_Comm comm, const std::string& path) {
     Hid access = hdf5::mpio_access(comm, path);
     Hid file =
         owned(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), H5Fclose, "H5Fopen", path);
-    Hid transfer = hdf5::collective_transfer(path);
-    const RowsDataset tets = open_rows_dataset(file.get(), path, kTets, 4, H5T_INTEGER);
-    const RowsDataset positions = open_rows_dataset(file.get(), path, kPositions, 3, H5T_FLOAT);
+    Hid transfer = hdf5::independent_transfer(path);
+    const hdf5::RowsDataset tets = hdf5::open_rows_dataset(file.get(), path, kTets, kTetsShape);
+    const hdf5::RowsDataset positions =
+        hdf5::open_rows_dataset(file.get(), path, kPositions, kPositionsShape);
     if (tets.rows == 0)
       throw InputError(detail::concat(path, ": ", kTets, " has no rows; a mesh needs a tet"));
     slice.num_global_tets = tets.rows;
@@ -278,12 +229,19 @@ MeshSlice read_mesh_h5(MPI_Comm comm, const std::string& path) {
     const BlockRange tet_blocks(tets.rows, size), vertex_blocks(positions.rows, size);
     slice.first_tet = tet_blocks.begin(rank);
     slice.tets.resize(4 * static_cast<std::size_t>(tet_blocks.size(rank)));
-    hdf5::read_block(tets.dataset.get(), transfer.get(), H5T_NATIVE_INT64, slice.first_tet,
-                     tet_blocks.size(rank), 4, slice.tets.data(), path + ":" + kTets);
     slice.first_vertex = vertex_blocks.begin(rank);
     slice.positions.resize(3 * static_cast<std::size_t>(vertex_blocks.size(rank)));
-    hdf5::read_block(positions.dataset.get(), transfer.get(), H5T_NATIVE_DOUBLE, slice.first_vertex,
-                     vertex_blocks.size(rank), 3, slice.positions.data(), path + ":" + kPositions);
+    std::string read_error;  // this rank's, agreed on by every rank below
+    try {
+      hdf5::read_block(tets.dataset.get(), transfer.get(), H5T_NATIVE_INT64, slice.first_tet,
+                       tet_blocks.size(rank), 4, slice.tets.data(), path + ":" + kTets);
+      hdf5::read_block(positions.dataset.get(), transfer.get(), H5T_NATIVE_DOUBLE,
+                       slice.first_vertex, vertex_blocks.size(rank), 3, slice.positions.data(),
+                       path + ":" + kPositions);
+    } catch (const Hdf5Error& e) {
+      read_error = e.what();
+    }
+    throw_if_any_failed<Hdf5Error>(comm, read_error);
   }
   verify_rows(slice, path);
   return slice;

@@ -31,9 +31,10 @@ namespace descent {
 void write_mesh_h5(MPI_Comm comm, const MeshSlice& slice, const std::string& path);
 
 // Collective over `comm`: each rank reads only its BlockRange block of tets
-// and of vertices, in contiguous hyperslabs with collective transfers.
+// and of vertices, in contiguous hyperslabs read independently.
 // Failures every rank sees alike (no file, not HDF5, a dataset missing or of
-// the wrong shape or type) throw InputError on every rank; a bad row throws on
+// the wrong shape or type) throw InputError on every rank; a read that fails
+// on some rank throws Hdf5Error there and PeerFailure on the others; a bad row throws on
 // the rank that read it, after every collective call, so that no rank is left
 // waiting (the caller agrees across ranks, as the application's set-up does).
 MeshSlice read_mesh_h5(MPI_Comm comm, const std::string& path);

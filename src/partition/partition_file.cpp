@@ -38,15 +38,6 @@ void write_attribute(hid_t group, const char* name, hid_t file_type, hid_t memor
   check(H5Awrite(attribute.get(), memory_type, &value), "H5Awrite", where);
 }
 
-template <class T>
-T read_attribute(hid_t group, const char* name, hid_t memory_type, const std::string& where) {
-  Hid attribute =
-      owned(H5Aopen(group, name, H5P_DEFAULT), H5Aclose, "H5Aopen", where + " attribute " + name);
-  T value{};
-  check(H5Aread(attribute.get(), memory_type, &value), "H5Aread", where + " attribute " + name);
-  return value;
-}
-
 void write_text_attribute(hid_t group, const char* name, const std::string& text,
                           const std::string& where) {
   Hid type = owned(H5Tcopy(H5T_C_S1), H5Tclose, "H5Tcopy", where);
@@ -55,15 +46,6 @@ void write_text_attribute(hid_t group, const char* name, const std::string& text
   Hid attribute = owned(H5Acreate2(group, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
                         H5Aclose, "H5Acreate2", where + " attribute " + name);
   check(H5Awrite(attribute.get(), type.get(), text.data()), "H5Awrite", where);
-}
-
-std::string read_text_attribute(hid_t group, const char* name, const std::string& where) {
-  Hid attribute =
-      owned(H5Aopen(group, name, H5P_DEFAULT), H5Aclose, "H5Aopen", where + " attribute " + name);
-  Hid type = owned(H5Aget_type(attribute.get()), H5Tclose, "H5Aget_type", where);
-  std::string text(H5Tget_size(type.get()), '\0');
-  check(H5Aread(attribute.get(), type.get(), text.data()), "H5Aread", where);
-  return text;
 }
 
 // Rows [first, first + count) of a [rows, cols] dataset of the partition group.
@@ -175,106 +157,12 @@ void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlic
   throw_if_rank0_failed(comm, error, detail::concat("cannot rename ", temporary, " to ", path));
 }
 
-PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  const std::string where = path + ":/partition";
-  PartitionPiece piece;
-  {
-    std::error_code missing;
-    if (!std::filesystem::is_regular_file(path, missing))
-      throw InputError(detail::concat(path,
-                                      ": no such file (--partition names a file that "
-                                      "`descent partition` wrote)"));
-    Hid access = hdf5::mpio_access(comm, path);
-    Hid file =
-        owned(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), H5Fclose, "H5Fopen", path);
-    if (H5Lexists(file.get(), "/partition", H5P_DEFAULT) <= 0)
-      throw InputError(detail::concat(
-          path,
-          ": no /partition group: a mesh file, not a partition (make one with descent "
-          "partition SCENE -n P -o FILE.h5)"));
-    Hid group = owned(H5Gopen2(file.get(), "/partition", H5P_DEFAULT), H5Gclose, "H5Gopen2", where);
-    const auto parts =
-        read_attribute<global_index_t>(group.get(), "num_parts", H5T_NATIVE_INT64, where);
-    if (parts != size)
-      throw InputError(
-          detail::concat(path, " holds a partition into ", parts, " parts, for runs on ", parts,
-                         " ranks; this run has ", size, " rank(s): run on ", parts,
-                         " ranks, or partition again with descent partition -n ", size));
-    piece.method = read_text_attribute(group.get(), "method", where);
-    piece.quality.cut_faces =
-        read_attribute<global_index_t>(group.get(), "cut_faces", H5T_NATIVE_INT64, where);
-    piece.quality.imbalance =
-        read_attribute<double>(group.get(), "imbalance", H5T_NATIVE_DOUBLE, where);
-    Hid transfer = hdf5::collective_transfer(where);
-
-    // Every rank reads the small tables whole.
-    std::vector<global_index_t> offsets(size + 1), stats(kStatsColumns * size);
-    Hid offsets_set =
-        owned(H5Dopen2(group.get(), "tet_offsets", H5P_DEFAULT), H5Dclose, "H5Dopen2", where);
-    hdf5::read_block(offsets_set.get(), transfer.get(), H5T_NATIVE_INT64, 0, size + 1, 1,
-                     offsets.data(), where + "/tet_offsets");
-    Hid stats_set =
-        owned(H5Dopen2(group.get(), "part_stats", H5P_DEFAULT), H5Dclose, "H5Dopen2", where);
-    hdf5::read_block(stats_set.get(), transfer.get(), H5T_NATIVE_INT64, 0, size, kStatsColumns,
-                     stats.data(), where + "/part_stats");
-    for (int p = 0; p < size; ++p) {
-      const global_index_t* row = &stats[kStatsColumns * static_cast<std::size_t>(p)];
-      piece.quality.tets_per_part.push_back(row[0]);
-      piece.quality.shared_vertices_per_part.push_back(row[1]);
-      piece.quality.neighbours_per_part.push_back(static_cast<int>(row[2]));
-      piece.quality.shared_pairs_per_part.push_back(row[3]);
-    }
-
-    // This rank's part.
-    const Rows mine{offsets[rank], offsets[rank + 1] - offsets[rank]};
-    PartTets& tets = piece.tets;
-    tets.part = rank;
-    tets.ids.resize(mine.count);
-    tets.vertices.resize(4 * static_cast<std::size_t>(mine.count));
-    tets.surface_faces.resize(mine.count);
-    auto read_rows = [&](const char* name, hid_t type, int cols, void* data) {
-      Hid set = owned(H5Dopen2(group.get(), name, H5P_DEFAULT), H5Dclose, "H5Dopen2", where);
-      hdf5::read_block(set.get(), transfer.get(), type, mine.first, mine.count, cols, data,
-                       where + "/" + name);
-    };
-    read_rows("tet_ids", H5T_NATIVE_INT64, 1, tets.ids.data());
-    read_rows("tets", H5T_NATIVE_INT64, 4, tets.vertices.data());
-    read_rows("surface_faces", H5T_NATIVE_UINT8, 1, tets.surface_faces.data());
-
-    // This rank's block of vertex positions.
-    Hid positions =
-        owned(H5Dopen2(file.get(), "/mesh/positions", H5P_DEFAULT), H5Dclose, "H5Dopen2", path);
-    Hid space = owned(H5Dget_space(positions.get()), H5Sclose, "H5Dget_space", path);
-    hsize_t dims[2] = {0, 0};
-    check(H5Sget_simple_extent_dims(space.get(), dims, nullptr), "H5Sget_simple_extent_dims", path);
-    piece.num_global_vertices = static_cast<global_index_t>(dims[0]);
-    piece.num_global_tets = offsets.back();
-    const BlockRange blocks(piece.num_global_vertices, size);
-    piece.first_vertex = blocks.begin(rank);
-    piece.block_positions.resize(3 * static_cast<std::size_t>(blocks.size(rank)));
-    hdf5::read_block(positions.get(), transfer.get(), H5T_NATIVE_DOUBLE, piece.first_vertex,
-                     blocks.size(rank), 3, piece.block_positions.data(), path + ":/mesh/positions");
-  }
-  return piece;
-}
-
 DistributedMesh distribute_piece(MPI_Comm comm, PartitionPiece piece, const std::string& source) {
   DistributedMesh mesh;
   mesh.source = source;
   mesh.method = piece.method == "metis" ? PartitionMethod::metis : PartitionMethod::ptscotch;
+  // read_partition_piece has checked every id.
   const global_index_t num_vertices = piece.num_global_vertices;
-  std::string error;
-  for (const global_index_t v : piece.tets.vertices)
-    if (v < 0 || v >= num_vertices) {
-      error =
-          detail::concat(source, ": /partition/tets of part ", piece.tets.part,
-                         " refers to vertex ", v, ", but the mesh has ", num_vertices, " vertices");
-      break;
-    }
-  throw_if_any_failed(comm, error);
   assemble_local_mesh(comm, piece.tets, num_vertices, piece.num_global_tets, piece.first_vertex,
                       piece.block_positions, mesh);
   mesh.quality = std::move(piece.quality);
