@@ -452,22 +452,16 @@ void resolve_chebyshev_parameters(const SceneDocument& doc, SolverSpec& solver) 
     if (!fixed_key && doc.has(key)) fixed_key = key;
   if (!doc.has("solver.chebyshev_parameters")) {
     if (fixed_key) solver.chebyshev_parameters = "fixed";
-  } else if (solver.chebyshev_parameters == "auto" && fixed_key &&
-             !(doc.from_scene_file(*doc.find(fixed_key)) &&
-               !doc.from_scene_file(*doc.find("solver.chebyshev_parameters")))) {
-    // An override (--set, a study case) of "auto" over a scene file's fixed
-    // keys is the command line winning; within one source it is a conflict.
+  } else if (solver.chebyshev_parameters == "auto" && fixed_key) {
+    // Both from one source: an override's key has replaced the file's
+    // (scene_exclusions.hpp).
     throw InputError(detail::concat(
         doc.where(fixed_key), ": ", fixed_key,
         " is a fixed Chebyshev parameter, but solver.chebyshev_parameters = \"auto\" (",
         doc.where("solver.chebyshev_parameters"),
         ") takes alpha and rho from the spectrum: drop one of them"));
   }
-  const toml::node* delay = doc.find("solver.chebyshev_delay");
-  const toml::node* mode = doc.find("solver.chebyshev_parameters");
-  const bool overridden = mode && !doc.from_scene_file(*mode);
-  if (solver.chebyshev_parameters == "auto" && delay &&
-      !(overridden && doc.from_scene_file(*delay)))
+  if (solver.chebyshev_parameters == "auto" && doc.has("solver.chebyshev_delay"))
     throw InputError(detail::concat(
         doc.where("solver.chebyshev_delay"),
         ": solver.chebyshev_delay applies to fixed Chebyshev parameters (set solver.rho and "

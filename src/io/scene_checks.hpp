@@ -18,9 +18,9 @@ void apply_helix_preset(const SceneDocument& doc, SceneFields& fields);
 
 // solver.chebyshev_parameters from the keys the scene sets: "fixed" when it
 // sets rho, phase_rho or alpha_max and does not say. A fixed key beside an
-// explicit "auto" from the same source (the file, or the overrides) is an
-// error naming the key; an override's "auto" wins over the file's fixed
-// keys. chebyshev_delay with the automatic parameters is an error.
+// explicit "auto" is an error naming both keys (an override's key has
+// already replaced the file's: scene_exclusions.hpp); so is chebyshev_delay
+// with the automatic parameters.
 void resolve_chebyshev_parameters(const SceneDocument& doc, SolverSpec& solver);
 
 // Names of models and methods, numeric ranges, model parameters (c2, c3)

@@ -981,8 +981,11 @@ TEST(SceneOverrides, MalformedOverrides) {
              "--set solver.iterations.x=1: solver.iterations holds");
 }
 
+// An override replaces the file's key that it excludes; two overrides that
+// exclude each other are checked after merging, like two lines of a file.
 TEST(SceneOverrides, ConflictsAreCheckedAfterMerging) {
-  expect_has(error_of(kBoxScene, {"mesh.file=a.msh"}),
+  EXPECT_EQ(parse(kBoxScene, {"mesh.file=a.msh"}).mesh.file, "a.msh");
+  expect_has(error_of(kBoxScene, {"mesh.file=a.msh", "mesh.generator=box"}),
              "--set mesh.file=a.msh: mesh.file and mesh.generator exclude each other");
 }
 
@@ -1166,8 +1169,9 @@ TEST(Scene, BodyErrorsNameTheBodyAndItsKey) {
              "scene: set it in [material])");
   expect_has(error_of(box_body + "velocty = [1, 0, 0]\n"),
              "unknown key 'body.0.velocty' (did you mean 'body.0.velocity'?)");
-  // A [mesh] key set from the command line meets the bodies the same way.
-  expect_has(error_of(box_body, {"mesh.scale=2"}), "[mesh] and [[body]] exclude each other");
+  // A [mesh] key set from the command line replaces the bodies, and that
+  // [mesh] then needs a mesh of its own.
+  expect_has(error_of(box_body, {"mesh.scale=2"}), "--set mesh.scale=2: the scene needs a mesh");
 }
 
 TEST(Scene, ContactBetweenBodiesNeedsTheChebyshevBarrierWithJacobi) {
