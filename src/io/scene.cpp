@@ -67,6 +67,7 @@ Scene read_scene(SceneDocument doc, const std::vector<std::string>& overrides,
   check_mesh_source(doc, fields.scene);
   apply_helix_preset(doc, fields);
   resolve_chebyshev_parameters(doc, fields.scene.solver);
+  resolve_step_accuracy(doc, fields.scene.solver);
   check_scene_values(doc, fields.scene);
   resolve_mesh_file(doc, scene_dir, "mesh.file", fields.scene.mesh);
   std::vector<Body>& bodies = fields.scene.bodies;

@@ -469,6 +469,14 @@ void resolve_chebyshev_parameters(const SceneDocument& doc, SolverSpec& solver) 
         "parameters run plain iterations through the first check, then the recurrence"));
 }
 
+void resolve_step_accuracy(const SceneDocument& doc, SolverSpec& solver) {
+  const bool gives_iterations = doc.has("solver.iterations");
+  const bool counts_by_accuracy = solver.method == "chebyshev" && solver.phase_rho.size() <= 1;
+  if (!doc.has("solver.accuracy") && !gives_iterations && counts_by_accuracy)
+    solver.accuracy = kDefaultAccuracy;
+  if (solver.accuracy > 0 && !gives_iterations) solver.iterations = kDefaultAccuracyCap;
+}
+
 void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require(doc, scene.mesh.scale > 0, "mesh.scale", "> 0", scene.mesh.scale);
   check_generator_values(doc, scene.mesh, scene_mesh_keys());

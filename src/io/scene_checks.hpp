@@ -23,6 +23,14 @@ void apply_helix_preset(const SceneDocument& doc, SceneFields& fields);
 // with the automatic parameters.
 void resolve_chebyshev_parameters(const SceneDocument& doc, SolverSpec& solver);
 
+// How many iterations a step runs: without solver.accuracy and
+// solver.iterations, Chebyshev with at most one phase (the method that
+// counts by an accuracy) runs to kDefaultAccuracy, and other methods keep
+// the fixed count; wherever an accuracy is in effect and the scene gives no
+// `iterations`, the cap is kDefaultAccuracyCap. A scene that gives only
+// `iterations` runs that many.
+void resolve_step_accuracy(const SceneDocument& doc, SolverSpec& solver);
+
 // Names of models and methods, numeric ranges, model parameters (c2, c3)
 // only with the models that use them, [[fixed]] regions with their motions
 // and [[load]] regions.
