@@ -7,6 +7,7 @@
 #include "common/error.hpp"
 #include "io/scene_checks.hpp"
 #include "io/scene_document.hpp"
+#include "io/scene_exclusions.hpp"
 #include "io/scene_overrides.hpp"
 #include "io/scene_unknown_keys.hpp"
 #include "io/scene_values.hpp"
@@ -55,15 +56,18 @@ void resolve_mesh_file(const SceneDocument& doc, const std::filesystem::path& sc
   if (path.is_relative()) mesh.file = (scene_dir / path).lexically_normal().string();
 }
 
-// Overrides first, so each stage below treats them exactly as file entries.
+// Overrides first, so each stage below treats them exactly as file entries,
+// and with them gone the file's keys that they exclude.
 Scene read_scene(SceneDocument doc, const std::vector<std::string>& overrides,
                  const std::filesystem::path& scene_dir) {
   apply_overrides(doc.root, overrides);
+  replace_excluded_keys(doc);
   reject_unknown_keys(doc);
   SceneFields fields = read_scene_fields(doc);
   check_mesh_source(doc, fields.scene);
   apply_helix_preset(doc, fields);
   resolve_chebyshev_parameters(doc, fields.scene.solver);
+  resolve_step_accuracy(doc, fields.scene.solver);
   check_scene_values(doc, fields.scene);
   resolve_mesh_file(doc, scene_dir, "mesh.file", fields.scene.mesh);
   std::vector<Body>& bodies = fields.scene.bodies;

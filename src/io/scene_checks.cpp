@@ -452,27 +452,29 @@ void resolve_chebyshev_parameters(const SceneDocument& doc, SolverSpec& solver) 
     if (!fixed_key && doc.has(key)) fixed_key = key;
   if (!doc.has("solver.chebyshev_parameters")) {
     if (fixed_key) solver.chebyshev_parameters = "fixed";
-  } else if (solver.chebyshev_parameters == "auto" && fixed_key &&
-             !(doc.from_scene_file(*doc.find(fixed_key)) &&
-               !doc.from_scene_file(*doc.find("solver.chebyshev_parameters")))) {
-    // An override (--set, a study case) of "auto" over a scene file's fixed
-    // keys is the command line winning; within one source it is a conflict.
+  } else if (solver.chebyshev_parameters == "auto" && fixed_key) {
+    // Both from one source: an override's key has replaced the file's
+    // (scene_exclusions.hpp).
     throw InputError(detail::concat(
         doc.where(fixed_key), ": ", fixed_key,
         " is a fixed Chebyshev parameter, but solver.chebyshev_parameters = \"auto\" (",
         doc.where("solver.chebyshev_parameters"),
         ") takes alpha and rho from the spectrum: drop one of them"));
   }
-  const toml::node* delay = doc.find("solver.chebyshev_delay");
-  const toml::node* mode = doc.find("solver.chebyshev_parameters");
-  const bool overridden = mode && !doc.from_scene_file(*mode);
-  if (solver.chebyshev_parameters == "auto" && delay &&
-      !(overridden && doc.from_scene_file(*delay)))
+  if (solver.chebyshev_parameters == "auto" && doc.has("solver.chebyshev_delay"))
     throw InputError(detail::concat(
         doc.where("solver.chebyshev_delay"),
         ": solver.chebyshev_delay applies to fixed Chebyshev parameters (set solver.rho and "
         "solver.alpha_max, or solver.chebyshev_parameters = \"fixed\"); the automatic "
         "parameters run plain iterations through the first check, then the recurrence"));
+}
+
+void resolve_step_accuracy(const SceneDocument& doc, SolverSpec& solver) {
+  const bool gives_iterations = doc.has("solver.iterations");
+  const bool counts_by_accuracy = solver.method == "chebyshev" && solver.phase_rho.size() <= 1;
+  if (!doc.has("solver.accuracy") && !gives_iterations && counts_by_accuracy)
+    solver.accuracy = kDefaultAccuracy;
+  if (solver.accuracy > 0 && !gives_iterations) solver.iterations = kDefaultAccuracyCap;
 }
 
 void check_scene_values(const SceneDocument& doc, const Scene& scene) {

@@ -98,6 +98,31 @@ const toml::node* SceneDocument::find(std::string_view key) const {
   return node;
 }
 
+toml::node* SceneDocument::find(std::string_view key) {
+  return const_cast<toml::node*>(static_cast<const SceneDocument&>(*this).find(key));
+}
+
+bool SceneDocument::erase(std::string_view key) {
+  const std::size_t dot = key.rfind('.');
+  toml::node* parent = dot == std::string_view::npos ? &root : find(key.substr(0, dot));
+  toml::table* table = parent ? parent->as_table() : nullptr;
+  const std::string_view name = dot == std::string_view::npos ? key : key.substr(dot + 1);
+  return table && table->erase(name) > 0;
+}
+
+bool SceneDocument::set_by_override(const toml::node& node) const {
+  if (node.source().path && *node.source().path != source) return true;
+  if (const toml::table* table = node.as_table()) {
+    for (auto&& [key, child] : *table)
+      if (set_by_override(child)) return true;
+  }
+  if (const toml::array* array = node.as_array()) {
+    for (const toml::node& child : *array)
+      if (set_by_override(child)) return true;
+  }
+  return false;
+}
+
 bool SceneDocument::from_scene_file(const toml::node& node) const {
   const toml::source_region* region = located_region(node);
   return region && *region->path == source;

@@ -19,10 +19,17 @@ struct SceneDocument {
   // The node at a dotted key ("solver.iterations", "fixed.0.axes": a number
   // indexes an array); null when absent.
   const toml::node* find(std::string_view key) const;
+  toml::node* find(std::string_view key);
   bool has(std::string_view key) const { return find(key) != nullptr; }
+  // Removes the entry at a dotted key whose parent is a table; false when
+  // there is none.
+  bool erase(std::string_view key);
 
   // False for nodes that came from a --set override.
   bool from_scene_file(const toml::node& node) const;
+  // Whether an override (--set, a study case) set the node or anything
+  // inside it: a table of the file that an override added a key to counts.
+  bool set_by_override(const toml::node& node) const;
 
   // Where a node came from: "scene.toml:12" for the file, the override
   // ("--set solver.iterations=64") for an override.

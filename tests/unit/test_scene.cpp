@@ -1,11 +1,14 @@
 // Scene files: defaults, every key, every error a user can make (named by
 // key and line), and --set overrides checked exactly like file entries.
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/error.hpp"
@@ -109,8 +112,9 @@ TEST(Scene, EveryOtherKeyDefaultsToTheStructDefaults) {
   EXPECT_EQ(scene.time.quasistatic, defaults.time.quasistatic);
   EXPECT_EQ(scene.solver.method, defaults.solver.method);
   EXPECT_EQ(scene.solver.chebyshev_parameters, "auto");
-  EXPECT_EQ(scene.solver.iterations, defaults.solver.iterations);
-  EXPECT_EQ(scene.solver.accuracy, 0.0);
+  // No solver keys: Chebyshev runs each step to the default accuracy.
+  EXPECT_EQ(scene.solver.accuracy, kDefaultAccuracy);
+  EXPECT_EQ(scene.solver.iterations, kDefaultAccuracyCap);
   EXPECT_EQ(scene.solver.spectrum_steps, defaults.solver.spectrum_steps);
   EXPECT_EQ(scene.solver.spectrum_interval, defaults.solver.spectrum_interval);
   EXPECT_EQ(scene.solver.spectrum_margin, defaults.solver.spectrum_margin);
@@ -711,6 +715,48 @@ TEST(Scene, ChebyshevParametersFollowTheKeysSet) {
   EXPECT_EQ(target.solver.spectrum_margin, 0.2);
 }
 
+// Without solver keys Chebyshev runs each step to the default accuracy
+// under a cap that does not bind; `iterations` alone keeps a fixed count,
+// and methods that cannot count by an accuracy keep theirs.
+TEST(Scene, StepsRunToTheDefaultAccuracyUnlessTheSceneSaysOtherwise) {
+  const auto rule = [](const std::string& solver, const Overrides& overrides = {}) {
+    const SolverSpec spec = parse(std::string(kBoxScene) + "[solver]\n" + solver, overrides).solver;
+    return std::make_pair(spec.accuracy, spec.iterations);
+  };
+  const SolverSpec defaults;
+  EXPECT_EQ(rule(""), std::make_pair(kDefaultAccuracy, kDefaultAccuracyCap));
+  EXPECT_EQ(rule("iterations = 64\n"), std::make_pair(0.0, 64));
+  EXPECT_EQ(rule("", {"solver.iterations=64"}), std::make_pair(0.0, 64));
+  EXPECT_EQ(rule("accuracy = 0\n"), std::make_pair(0.0, defaults.iterations));
+  EXPECT_EQ(rule("accuracy = 1e-3\n"), std::make_pair(1e-3, kDefaultAccuracyCap));
+  EXPECT_EQ(rule("accuracy = 1e-3\niterations = 300\n"), std::make_pair(1e-3, 300));
+  EXPECT_EQ(rule("rho = 0.96\n"), std::make_pair(kDefaultAccuracy, kDefaultAccuracyCap));
+  EXPECT_EQ(rule("phase_rho = [0.9, 0.99]\nphase_lengths = [8]\n"),
+            std::make_pair(0.0, defaults.iterations));
+  EXPECT_EQ(rule("method = \"ncg\"\n"), std::make_pair(0.0, defaults.iterations));
+}
+
+// The default accuracy changes no job: each parses, and each that sets a
+// count or a target runs what it ran before (the count without a target, 96
+// unless given; the target with the cap given).
+TEST(Scene, EveryJobKeepsItsIterationRule) {
+  int checked = 0;
+  for (const auto& entry :
+       fs::recursive_directory_iterator(fs::path(DESCENT_SOURCE_DIR) / "jobs")) {
+    if (entry.path().extension() != ".toml") continue;
+    SCOPED_TRACE(entry.path().string());
+    const SolverSpec spec = load_scene(entry.path().string()).solver;
+    const toml::table file = toml::parse_file(entry.path().string());
+    const std::optional<int> iterations = file["solver"]["iterations"].value<int>();
+    const std::optional<double> accuracy = file["solver"]["accuracy"].value<double>();
+    if (!iterations && !accuracy) continue;  // the default target: the test above
+    EXPECT_EQ(spec.accuracy, accuracy.value_or(0.0));
+    EXPECT_EQ(spec.iterations, iterations.value_or(SolverSpec{}.iterations));
+    ++checked;
+  }
+  EXPECT_GT(checked, 0);
+}
+
 TEST(Scene, ChoicesListTheValidNames) {
   expect_has(error_of(std::string(kBoxScene) + "[material]\nmodel = \"hookean\"\n"),
              "scene.toml:4: material.model must be one of \"stvk\", \"neo_hookean\", "
@@ -981,8 +1027,11 @@ TEST(SceneOverrides, MalformedOverrides) {
              "--set solver.iterations.x=1: solver.iterations holds");
 }
 
+// An override replaces the file's key that it excludes; two overrides that
+// exclude each other are checked after merging, like two lines of a file.
 TEST(SceneOverrides, ConflictsAreCheckedAfterMerging) {
-  expect_has(error_of(kBoxScene, {"mesh.file=a.msh"}),
+  EXPECT_EQ(parse(kBoxScene, {"mesh.file=a.msh"}).mesh.file, "a.msh");
+  expect_has(error_of(kBoxScene, {"mesh.file=a.msh", "mesh.generator=box"}),
              "--set mesh.file=a.msh: mesh.file and mesh.generator exclude each other");
 }
 
@@ -1166,8 +1215,9 @@ TEST(Scene, BodyErrorsNameTheBodyAndItsKey) {
              "scene: set it in [material])");
   expect_has(error_of(box_body + "velocty = [1, 0, 0]\n"),
              "unknown key 'body.0.velocty' (did you mean 'body.0.velocity'?)");
-  // A [mesh] key set from the command line meets the bodies the same way.
-  expect_has(error_of(box_body, {"mesh.scale=2"}), "[mesh] and [[body]] exclude each other");
+  // A [mesh] key set from the command line replaces the bodies, and that
+  // [mesh] then needs a mesh of its own.
+  expect_has(error_of(box_body, {"mesh.scale=2"}), "--set mesh.scale=2: the scene needs a mesh");
 }
 
 TEST(Scene, ContactBetweenBodiesNeedsTheChebyshevBarrierWithJacobi) {
