@@ -22,8 +22,6 @@ using hdf5::check;
 using hdf5::Hid;
 using hdf5::owned;
 
-constexpr int kStatsColumns = 4;  // tets, shared vertices, neighbours, shared pairs
-
 const char* method_key(PartitionMethod method) {
   return method == PartitionMethod::metis ? "metis" : "ptscotch";
 }
@@ -124,9 +122,9 @@ void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlic
     hdf5::write_block(offsets_set.get(), transfer.get(), H5T_NATIVE_INT64, 0,
                       root ? num_parts + 1 : 0, 1, offsets.data(), where + "/tet_offsets");
     Hid stats_set = hdf5::create_rows_dataset(group.get(), "part_stats", H5T_STD_I64LE, num_parts,
-                                              kStatsColumns, where + "/part_stats");
+                                              kPartStatsColumns, where + "/part_stats");
     hdf5::write_block(stats_set.get(), transfer.get(), H5T_NATIVE_INT64, 0, root ? num_parts : 0,
-                      kStatsColumns, stats.data(), where + "/part_stats");
+                      kPartStatsColumns, stats.data(), where + "/part_stats");
 
     const global_index_t total = offsets.back();
     Hid ids_set = hdf5::create_rows_dataset(group.get(), "tet_ids", H5T_STD_I64LE, total, 1,

@@ -24,6 +24,10 @@
 
 namespace descent {
 
+// Columns of /partition/part_stats (tets, shared vertices, neighbours,
+// shared pairs).
+constexpr int kPartStatsColumns = 4;
+
 // Collective: writes the mesh (each rank its slice) and the parts each rank
 // holds (parts_of_rank order) into PATH.partial/ and moves the file and its
 // XDMF index to PATH at the end, so an interrupted write leaves no file

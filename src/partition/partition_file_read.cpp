@@ -33,8 +33,7 @@ using hdf5::check;
 using hdf5::Hid;
 using hdf5::owned;
 
-constexpr int kStatsColumns = 4;  // tets, shared vertices, neighbours, shared pairs
-constexpr int kFaceBits = 0xF;    // one bit per face of a tet
+constexpr int kFaceBits = 0xF;  // one bit per face of a tet
 
 // An attribute of /partition: present, one value, of `type_class`.
 Hid open_attribute(hid_t group, const char* name, H5T_class_t type_class, const char* kind,
@@ -114,12 +113,12 @@ std::string offsets_error(const std::vector<global_index_t>& offsets, global_ind
 std::string stats_error(const std::vector<global_index_t>& stats,
                         const std::vector<global_index_t>& offsets, const std::string& path) {
   for (std::size_t p = 0; p + 1 < offsets.size(); ++p) {
-    const global_index_t* row = &stats[kStatsColumns * p];
+    const global_index_t* row = &stats[kPartStatsColumns * p];
     const global_index_t tets = offsets[p + 1] - offsets[p];
     if (row[0] != tets)
       return detail::concat(path, ": dataset /partition/part_stats: row ", p, ": ", row[0],
                             " tets, but /partition/tet_offsets gives part ", p, " ", tets);
-    for (int c = 1; c < kStatsColumns; ++c)
+    for (int c = 1; c < kPartStatsColumns; ++c)
       if (row[c] < 0)
         return detail::concat(path, ": dataset /partition/part_stats: row ", p, ": column ", c,
                               " is negative (", row[c], ")");
@@ -223,7 +222,7 @@ PartitionDatasets open_datasets(hid_t file, const std::string& path, global_inde
   sets.offsets =
       open("/partition/tet_offsets", {1, H5T_INTEGER, "P + 1", "1 offset per row", integers});
   sets.stats =
-      open("/partition/part_stats", {kStatsColumns, H5T_INTEGER, "P",
+      open("/partition/part_stats", {kPartStatsColumns, H5T_INTEGER, "P",
                                      "tets, shared vertices, neighbours, shared pairs", integers});
   sets.ids = open("/partition/tet_ids", {1, H5T_INTEGER, "T", "1 tet id per row", integers});
   sets.tets = open("/partition/tets", {4, H5T_INTEGER, "T", "4 vertex ids per tet", integers});
@@ -312,13 +311,13 @@ PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
     // Independent reads (io/hdf5_blocks.hpp says why); a rank's failed read
     // is agreed on by every rank before any goes on.
     Hid transfer = hdf5::independent_transfer(where);
-    std::vector<global_index_t> offsets(size + 1), stats(kStatsColumns * size);
+    std::vector<global_index_t> offsets(size + 1), stats(kPartStatsColumns * size);
     std::string read_error;
     try {
       hdf5::read_block(sets.offsets.dataset.get(), transfer.get(), H5T_NATIVE_INT64, 0, size + 1, 1,
                        offsets.data(), where + "/tet_offsets");
       hdf5::read_block(sets.stats.dataset.get(), transfer.get(), H5T_NATIVE_INT64, 0, size,
-                       kStatsColumns, stats.data(), where + "/part_stats");
+                       kPartStatsColumns, stats.data(), where + "/part_stats");
     } catch (const Hdf5Error& e) {
       read_error = e.what();
     }
@@ -328,7 +327,7 @@ PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
     if (std::string error = stats_error(stats, offsets, path); !error.empty())
       throw InputError(error);
     for (int p = 0; p < size; ++p) {
-      const global_index_t* row = &stats[kStatsColumns * static_cast<std::size_t>(p)];
+      const global_index_t* row = &stats[kPartStatsColumns * static_cast<std::size_t>(p)];
       piece.quality.tets_per_part.push_back(row[0]);
       piece.quality.shared_vertices_per_part.push_back(row[1]);
       piece.quality.neighbours_per_part.push_back(static_cast<int>(row[2]));
