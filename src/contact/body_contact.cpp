@@ -136,6 +136,10 @@ void BodyContact<Real>::rebuild_here(const Real* q) {
   const Timed timed(seconds_.search);
   halo_.rebuild(q, dh_ + 2 * cap_, kappa_);
   pairs_ = find_contact_pairs(halo_, dh_ + 2 * cap_, self_);
+  // Without a pair on any rank no gap can close below dh before the next
+  // search (the drift cap), so the iterations skip the guard's exchange.
+  const bool here = !pairs_.vertex_triangle.empty() || !pairs_.edge_edge.empty();
+  any_pairs_ = reduction_.max_of(here ? 1.0 : 0.0) > 0;
   track_from_here();
   if (!(mu_ > 0)) return;
   // Friction lags from the step start (the ghosts' too).
@@ -323,10 +327,13 @@ void BodyContact<Real>::add_hessian_product(const Real* q, const Real* v, Real* 
 
 template <class Real>
 void BodyContact<Real>::guard(Real* q, Real* q_next, const std::uint8_t* fixed) {
-  if (safe_)
+  if (safe_) {
     cut_by_nearest_gap(q, q_next, fixed);
-  else
+  } else if (any_pairs_) {
     cut_by_pair_paths(q_next, fixed);
+  } else {
+    cut_.assign(halo_.num_local(), 1.0);
+  }
   const Timed timed(seconds_.guard);
   for (index_t c = 0; c < halo_.num_local(); ++c) {
     const std::size_t v = static_cast<std::size_t>(halo_.local_vertex()[c]);

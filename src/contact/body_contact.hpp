@@ -159,6 +159,7 @@ class BodyContact {
   std::vector<double> cut_;     // per local contact vertex: the guard's fraction (< 1: cut)
   std::vector<double> moves_;   // per contact vertex: measure_moves()
   bool safe_ = false;           // the safe guard, for the rest of the step
+  bool any_pairs_ = true;       // a pair on some rank at the last search
   bool verify_paths_ = false;   // the next update_ghosts checks the pairs' paths
   bool crossing_ = false;       // a path was not proven; the next energy is infinite
   long paths_caught_ = 0;
