@@ -23,6 +23,6 @@ command="$bench --runs $runs --out $scratch"
   echo "== $(date -Is) $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2) x $(nproc) cores;" \
     "scratch $scratch on $(df -P "$(dirname "$scratch")" | awk 'NR == 2 {print $1}')" \
     "($(stat -f -c %T "$(dirname "$scratch")")); commit $(git -C "$root" rev-parse --short HEAD)"
-  echo "\$ $command"
+  echo "\$ ${command#"$root"/}"  # the binary relative to the tree, not this machine's path
   $command
 } | tee -a "$out/checkpoint_write.log"

@@ -34,6 +34,7 @@
 #include "io/scene.hpp"
 #include "partition/partition_file.hpp"
 #include "tests/fuzz/mutator.hpp"
+#include "tests/mpi/file_bytes.hpp"
 
 namespace descent {
 namespace {
@@ -267,15 +268,8 @@ void read_h5_everywhere(const std::string& path, Counts& mesh, Counts& partition
 
 // ----- checkpoints (each rank its own file) -----
 
-std::vector<char> read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-void write_bytes(const std::string& path, const std::vector<char>& bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
-      .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
+using testing::read_bytes;
+using testing::write_bytes;
 
 Checkpoint sample_checkpoint() {
   Checkpoint c;

@@ -14,6 +14,7 @@
 
 #include "app/restart_checkpoint.hpp"
 #include "common/error.hpp"
+#include "file_bytes.hpp"
 #include "io/checkpoint.hpp"
 #include "shared_test_directory.hpp"
 #include "world_rank.hpp"
@@ -72,15 +73,8 @@ void expect_same(const Checkpoint& a, const Checkpoint& b) {
   EXPECT_EQ(a.interpolants, b.interpolants);
 }
 
-std::vector<char> read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-void write_bytes(const std::string& path, const std::vector<char>& bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
-      .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
+using testing::read_bytes;
+using testing::write_bytes;
 
 // The message read_checkpoint throws for `path`, or "" when it reads.
 std::string read_error(const std::string& path, int rank, int size) {
