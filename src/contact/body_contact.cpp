@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/error.hpp"
+#include "contact/contact_islands.hpp"
 #include "contact/contact_scale.hpp"
 #include "kernels/pair_contact.hpp"
 
@@ -35,6 +36,7 @@ BodyContact<Real>::BodyContact(const LocalMesh& mesh, const Scene& scene, Halo<R
                                EnergyReduction& reduction, const std::vector<Real>& mass,
                                const std::vector<Real>& rest_diagonal, double inv_h2)
     : mesh_(mesh),
+      vertex_body_(vertex_bodies(mesh)),
       reduction_(reduction),
       halo_(mesh, halo),
       self_(scene.contact.self),
@@ -85,50 +87,48 @@ void BodyContact<Real>::pull_back(const Real* qt, Real* q) {
   const Timed timed(seconds_.search);
   const index_t nv = mesh_.num_vertices();
   qt_.assign(qt, qt + 3 * static_cast<std::size_t>(nv));
-  // A pair's gap closes by at most the largest difference between the
-  // moves of a vertex of one side and one of the other (kernels/pair_path.hpp):
-  // nothing for bodies moving alike. That difference is at most 2 S, S the
-  // largest distance of a move from the middle of all moves' box (two
-  // allreduces), so only pairs within dh + 4 S of each other at q_t can
-  // close by half their gap. A new step starts with the relative guard.
+  // A new step starts with the relative guard.
   safe_ = false;
   verify_paths_ = crossing_ = false;
-  std::array<double, 6> box{-1e300, -1e300, -1e300, -1e300, -1e300, -1e300};
-  for (index_t v = 0; v < nv; ++v)
-    for (int i = 0; i < 3; ++i) {
-      const double d = static_cast<double>(q[3 * v + i] - qt[3 * v + i]);
-      box[i] = std::max(box[i], d);
-      box[3 + i] = std::max(box[3 + i], -d);
-    }
-  reduction_.max_in_place(box.data(), 6);
-  const double middle[3] = {0.5 * (box[0] - box[3]), 0.5 * (box[1] - box[4]),
-                            0.5 * (box[2] - box[5])};
-  double spread = 0;
-  for (index_t v = 0; v < nv; ++v) {
-    double d[3];
-    for (int i = 0; i < 3; ++i)
-      d[i] = static_cast<double>(q[3 * v + i] - qt[3 * v + i]) - middle[i];
-    spread = std::max(spread, length(d));
-  }
-  spread = reduction_.max_of(spread);
-  const double reach = dh_ + 4 * spread;
-  halo_.rebuild(qt, reach, kappa_);
-  pairs_ = find_contact_pairs(halo_, reach, self_);
-
+  // The pairs that may come within dh along the moves q - q_t, each scaled
+  // by any fraction: a pair not among them keeps beyond dh (no barrier,
+  // no crossing) however the bodies' moves are scaled.
+  halo_.rebuild(qt, dh_, kappa_, q);
   std::vector<Real> guess;
   halo_.gather(q, guess);
+  pairs_ = find_contact_pairs(halo_, dh_, self_, &guess);
   const std::vector<Real>& start = halo_.positions();
-  double fraction = 1;
+  const std::vector<int>& body = halo_.body();
+  const int num_bodies = mesh_.num_bodies();
+  // Per body the least share of its pairs' paths that keeps half their gap
+  // (negated, to go through the maximum), and the bodies the pairs link.
+  std::vector<double> least(static_cast<std::size_t>(num_bodies), -1.0);
+  std::vector<std::pair<int, int>> links;
   for_each_path(
       start, guess, [](std::size_t, const std::array<index_t, 4>&) { return false; },
-      [&](PairKind kind, const std::array<index_t, 4>&, const Real* x0, const Real* x1) {
+      [&](PairKind kind, const std::array<index_t, 4>& v, const Real* x0, const Real* x1) {
         const double d = std::sqrt(static_cast<double>(pair_distance(kind, x0, false).d2));
-        fraction = std::min(fraction, pair_path_fraction(kind, x0, x1, d, 0.5 * d));
+        const double f = pair_path_fraction(kind, x0, x1, d, 0.5 * d);
+        for (int j = 0; j < 4; ++j) {
+          least[body[v[j]]] = std::max(least[body[v[j]]], -f);
+          if (body[v[j]] != body[v[0]]) links.emplace_back(body[v[0]], body[v[j]]);
+        }
       });
-  fraction = -reduction_.max_of(-fraction);
-  if (fraction < 1)
-    for (std::size_t k = 0; k < 3 * static_cast<std::size_t>(nv); ++k)
-      q[k] = qt[k] + static_cast<Real>(fraction) * (q[k] - qt[k]);
+  const std::vector<int> island = contact_islands(num_bodies, links, reduction_);
+  reduction_.max_in_place(least.data(), num_bodies);
+  // Each island's move is scaled by its bodies' least fraction: every pair
+  // then travels its own path cut short, keeping half its gap.
+  std::vector<double> fraction(static_cast<std::size_t>(num_bodies), 1.0);
+  for (int b = 0; b < num_bodies; ++b)
+    fraction[island[b]] = std::min(fraction[island[b]], -least[b]);
+  for (index_t v = 0; v < nv; ++v) {
+    const Real f = static_cast<Real>(fraction[island[vertex_body_[v]]]);
+    if (f < Real(1))
+      for (int i = 0; i < 3; ++i) {
+        const std::size_t k = 3 * static_cast<std::size_t>(v) + i;
+        q[k] = qt[k] + f * (q[k] - qt[k]);
+      }
+  }
 }
 
 template <class Real>

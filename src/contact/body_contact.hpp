@@ -12,7 +12,9 @@
 // where a vertex has drifted cap/2 (the flag costs one allreduce per check).
 // At the step's start the guess is first pulled back along q - q_t so that
 // no pair closes by more than half its gap along that path (pull_back();
-// moves both sides share close nothing). Per iteration: the ghosts'
+// moves both sides share close nothing), each contact island (bodies linked
+// by pairs that may come within dh along the path, contact_islands.hpp) by
+// its own fraction. Per iteration: the ghosts'
 // positions (neighbour messages only), the terms of the pairs around this
 // rank's vertices (each sharer adds the same, as for obstacles), and the
 // guard. The guard sends each iteration's proposed moves to the ghosts'
@@ -147,6 +149,7 @@ class BodyContact {
   void for_each_pair(bool skip_far, Visit&& visit);
 
   const LocalMesh& mesh_;
+  const std::vector<int> vertex_body_;  // per local vertex
   EnergyReduction& reduction_;
   ContactHalo<Real> halo_;
   ContactPairs pairs_;

@@ -58,31 +58,39 @@ ContactHalo<Real>::ContactHalo(const LocalMesh& mesh, Halo<Real>& halo)
 }
 
 template <class Real>
-void ContactHalo<Real>::rebuild(const Real* q, double reach, const std::vector<Real>& carried) {
+void ContactHalo<Real>::rebuild(const Real* q, double reach, const std::vector<Real>& carried,
+                                const Real* to) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm_, &rank);
   MPI_Comm_size(comm_, &size);
-  auto point = [&](index_t v) {
-    return std::array<double, 3>{static_cast<double>(q[3 * v]), static_cast<double>(q[3 * v + 1]),
-                                 static_cast<double>(q[3 * v + 2])};
+  auto point = [](const Real* x, index_t v) {
+    return std::array<double, 3>{static_cast<double>(x[3 * v]), static_cast<double>(x[3 * v + 1]),
+                                 static_cast<double>(x[3 * v + 2])};
   };
+  // The positions the boxes cover: q, and with `to` also the ends of the
+  // moves (a primitive moved along a straight path, scaled or not, stays
+  // in the box of its two ends).
+  std::vector<const Real*> ends{q};
+  if (to) ends.push_back(to);
   SurfaceBox mine{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}, 0.0};
-  for (index_t v : surface_) {
-    const std::array<double, 3> x = point(v);
-    for (int i = 0; i < 3; ++i) {
-      mine.lo[i] = std::min(mine.lo[i], x[i]);
-      mine.hi[i] = std::max(mine.hi[i], x[i]);
+  for (const Real* x : ends)
+    for (index_t v : surface_) {
+      const std::array<double, 3> p = point(x, v);
+      for (int i = 0; i < 3; ++i) {
+        mine.lo[i] = std::min(mine.lo[i], p[i]);
+        mine.hi[i] = std::max(mine.hi[i], p[i]);
+      }
     }
-  }
   std::vector<Aabb> boxes(own_triangles_.size());
-  for (std::size_t k = 0; k < own_triangles_.size(); ++k)
-    for (int a = 0; a < 3; ++a) {
-      const std::array<double, 3> x = point(own_triangles_[k][a]),
-                                  y = point(own_triangles_[k][(a + 1) % 3]);
-      boxes[k].add(x.data());
-      mine.longest_edge =
-          std::max(mine.longest_edge, std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]));
-    }
+  for (const Real* x : ends)
+    for (std::size_t k = 0; k < own_triangles_.size(); ++k)
+      for (int a = 0; a < 3; ++a) {
+        const std::array<double, 3> p = point(x, own_triangles_[k][a]),
+                                    r = point(x, own_triangles_[k][(a + 1) % 3]);
+        boxes[k].add(p.data());
+        mine.longest_edge =
+            std::max(mine.longest_edge, std::hypot(p[0] - r[0], p[1] - r[1], p[2] - r[2]));
+      }
   std::vector<SurfaceBox> all(size);
   DESCENT_MPI_CHECK(MPI_Allgather(&mine, sizeof(SurfaceBox), MPI_BYTE, all.data(),
                                   sizeof(SurfaceBox), MPI_BYTE, comm_));
@@ -123,7 +131,7 @@ void ContactHalo<Real>::rebuild(const Real* q, double reach, const std::vector<R
         for (std::size_t i = 0; i < sent[s].size(); ++i) vertex_out.count(s);
       } else {
         for (index_t v : sent[s]) {
-          const std::array<double, 3> x = point(v);
+          const std::array<double, 3> x = point(q, v);
           vertex_out.place(s, {mesh_.global_vertex[v],
                                {x[0], x[1], x[2]},
                                carried.empty() ? 0.0 : static_cast<double>(carried[v])});

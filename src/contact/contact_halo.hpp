@@ -6,7 +6,8 @@
 //
 // Near: a triangle of rank s comes to rank r when its bounding box meets the
 // box of r's surface vertices grown by `reach` + the longest surface edge
-// of any rank. So every pair of primitives closer than `reach` that touches
+// of any rank (for paths, the boxes of both ends and the longest edge at
+// either). So every pair of primitives closer than `reach` that touches
 // a vertex of r is complete on r: the other primitive lies within reach of
 // a primitive through that vertex, which lies within one edge of it.
 //
@@ -37,8 +38,11 @@ class ContactHalo {
 
   // Collective: the ghosts and triangles for positions q (3 per local
   // vertex) and this reach. `carried` (one per local vertex, or empty)
-  // travels with the ghosts: carried() gives it per contact vertex.
-  void rebuild(const Real* q, double reach, const std::vector<Real>& carried = {});
+  // travels with the ghosts: carried() gives it per contact vertex. With
+  // `to` (3 per local vertex), for the straight paths from q to `to`: a
+  // triangle's box and a rank's surface box then cover both ends.
+  void rebuild(const Real* q, double reach, const std::vector<Real>& carried = {},
+               const Real* to = nullptr);
   // Neighbour messages only: `values` (3 per local vertex, the same on
   // every sharer) per contact vertex into `out`, the ghosts' from their
   // holders.

@@ -1,6 +1,7 @@
 #include "contact/contact_pairs.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "contact/spatial_hash.hpp"
 #include "kernels/primitive_distance.hpp"
@@ -9,13 +10,19 @@ namespace descent {
 
 namespace {
 
+// The box of the primitive's vertices at the halo's positions and, with
+// `to` (per contact vertex), at the ends of their paths.
 template <class Real>
-Aabb bounds(const ContactHalo<Real>& halo, const index_t* v, int count, double grow) {
+Aabb bounds(const ContactHalo<Real>& halo, const std::vector<Real>* to, const index_t* v, int count,
+            double grow) {
   Aabb box;
-  for (int k = 0; k < count; ++k) {
-    const Real* x = &halo.positions()[3 * static_cast<std::size_t>(v[k])];
-    const double p[3] = {x[0], x[1], x[2]};
-    box.add(p);
+  for (const std::vector<Real>* x : {&halo.positions(), to}) {
+    if (!x) continue;
+    for (int k = 0; k < count; ++k) {
+      const Real* y = &(*x)[3 * static_cast<std::size_t>(v[k])];
+      const double p[3] = {y[0], y[1], y[2]};
+      box.add(p);
+    }
   }
   for (int i = 0; i < 3; ++i) {
     box.lo[i] -= grow;
@@ -34,7 +41,8 @@ void gather(const ContactHalo<Real>& halo, const std::array<index_t, 4>& v, Real
 }  // namespace
 
 template <class Real>
-ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, bool self) {
+ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, bool self,
+                                const std::vector<Real>* to) {
   const auto& gid = halo.global_id();
   const auto& body = halo.body();
   const auto& triangles = halo.triangles();
@@ -43,6 +51,33 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
     return std::any_of(v.begin(), v.end(), [&](index_t c) { return c < local; });
   };
   auto by_id = [&](index_t a, index_t b) { return gid[a] < gid[b]; };
+  // Along the paths a pair's gap closes by at most its vertices' summed
+  // move lengths whatever the fractions, and within one body (its moves
+  // scaled alike) by at most the largest difference between a move of one
+  // side and one of the other (kernels/pair_path.hpp).
+  auto move = [&](index_t c, int i) {
+    return static_cast<double>((*to)[3 * c + i] - halo.positions()[3 * c + i]);
+  };
+  auto distance_of_moves = [&](index_t a, index_t b) {  // b < 0: from no move
+    double d2 = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double d = move(a, i) - (b < 0 ? 0.0 : move(b, i));
+      d2 += d * d;
+    }
+    return std::sqrt(d2);
+  };
+  auto within = [&](const std::array<index_t, 4>& v, Real d2, int second_side) {
+    if (!to) return static_cast<double>(d2) < reach * reach;
+    double closing = 0;
+    if (std::all_of(v.begin(), v.end(), [&](index_t c) { return body[c] == body[v[0]]; })) {
+      for (int a = 0; a < second_side; ++a)
+        for (int b = second_side; b < 4; ++b)
+          closing = std::max(closing, distance_of_moves(v[a], v[b]));
+    } else {
+      for (index_t c : v) closing += distance_of_moves(c, -1);
+    }
+    return std::sqrt(static_cast<double>(d2)) - closing < reach;
+  };
 
   // Vertices of the triangles, and their edges each once, lesser id first.
   std::vector<index_t> vertices;
@@ -64,15 +99,14 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
 
   ContactPairs pairs;
-  const double reach2 = reach * reach;
   std::vector<index_t> found;
   Real x[12];
 
   std::vector<Aabb> triangle_boxes;
-  for (const auto& t : triangles) triangle_boxes.push_back(bounds(halo, t.data(), 3, 0.0));
+  for (const auto& t : triangles) triangle_boxes.push_back(bounds(halo, to, t.data(), 3, 0.0));
   const SpatialHash triangle_hash(triangle_boxes, SpatialHash::cell_size_for(triangle_boxes));
   for (index_t p : vertices) {
-    triangle_hash.candidates(bounds(halo, &p, 1, reach), found);
+    triangle_hash.candidates(bounds(halo, to, &p, 1, reach), found);
     for (index_t k : found) {
       const auto& t = triangles[k];
       if (p == t[0] || p == t[1] || p == t[2]) continue;
@@ -80,15 +114,15 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
       const std::array<index_t, 4> v{p, t[0], t[1], t[2]};
       if (!touches_local(v)) continue;
       gather(halo, v, x);
-      if (point_triangle_distance(x, false).d2 < reach2) pairs.vertex_triangle.push_back(v);
+      if (within(v, point_triangle_distance(x, false).d2, 1)) pairs.vertex_triangle.push_back(v);
     }
   }
 
   std::vector<Aabb> edge_boxes;
-  for (const auto& e : edges) edge_boxes.push_back(bounds(halo, e.data(), 2, 0.0));
+  for (const auto& e : edges) edge_boxes.push_back(bounds(halo, to, e.data(), 2, 0.0));
   const SpatialHash edge_hash(edge_boxes, SpatialHash::cell_size_for(edge_boxes));
   for (std::size_t i = 0; i < edges.size(); ++i) {
-    edge_hash.candidates(bounds(halo, edges[i].data(), 2, reach), found);
+    edge_hash.candidates(bounds(halo, to, edges[i].data(), 2, reach), found);
     for (index_t k : found) {
       if (static_cast<std::size_t>(k) <= i) continue;  // each pair once: the later edge
       const auto& a = edges[i];
@@ -98,7 +132,7 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
       const std::array<index_t, 4> v{a[0], a[1], b[0], b[1]};
       if (!touches_local(v)) continue;
       gather(halo, v, x);
-      if (edge_edge_distance(x, false).d2 < reach2) pairs.edge_edge.push_back(v);
+      if (within(v, edge_edge_distance(x, false).d2, 2)) pairs.edge_edge.push_back(v);
     }
   }
 
@@ -111,7 +145,9 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
   return pairs;
 }
 
-template ContactPairs find_contact_pairs(const ContactHalo<double>&, double, bool);
-template ContactPairs find_contact_pairs(const ContactHalo<float>&, double, bool);
+template ContactPairs find_contact_pairs(const ContactHalo<double>&, double, bool,
+                                         const std::vector<double>*);
+template ContactPairs find_contact_pairs(const ContactHalo<float>&, double, bool,
+                                         const std::vector<float>*);
 
 }  // namespace descent

@@ -23,8 +23,14 @@ struct ContactPairs {
   std::vector<std::array<index_t, 4>> edge_edge;        // (p0, p1, q0, q1)
 };
 
+// With `to` (3 per contact vertex): the pairs that may come closer than
+// `reach` somewhere along the straight paths from the halo's positions to
+// `to`, each vertex's scaled by any fraction in [0, 1] (their boxes over
+// both ends meet, and their distance less their vertices' summed moves is
+// below reach).
 template <class Real>
-ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, bool self);
+ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, bool self,
+                                const std::vector<Real>* to = nullptr);
 
 // Whether this rank counts the energy of the pair with contact vertices `v`.
 template <class Real>

@@ -87,6 +87,7 @@ ObstacleContact<Real>::ObstacleContact(const LocalMesh& mesh, const Scene& scene
                                        EnergyReduction& reduction, const std::vector<Real>& mass,
                                        const std::vector<Real>& rest_diagonal, double inv_h2)
     : mesh_(mesh),
+      vertex_body_(vertex_bodies(mesh)),
       reduction_(reduction),
       obstacles_(scene.obstacles),
       energy_(scene.contact.method == "energy"),
@@ -175,34 +176,48 @@ void ObstacleContact<Real>::begin_step(double t, const Real* qt, Real* q) {
       }
     }
   }
-  // The guess: the whole move from qt scaled by the largest fraction that
-  // keeps every surface vertex at least dh/2 from every obstacle (or where
-  // it is, if nearer): one scale for the body, so the guess keeps its shape
-  // (cutting each vertex alone crushes the layer that meets an obstacle
-  // first), and a body thrown at an obstacle starts the step touching it,
-  // inside the barrier's reach, where P^-1 and the spectrum estimate made
-  // at the guess see the barrier. Vertices an obstacle has moved onto are
-  // pushed out along its normal, to half the activation distance (a few
-  // passes settle corners).
-  Real least_scale = 1;
-  std::vector<std::uint8_t> inside(vertices_.size(), 0);
+  // The guess: each body's whole move from qt scaled by the largest
+  // fraction that keeps every surface vertex of it at least dh/2 from every
+  // obstacle (or where it is, if nearer): one scale per body, so the guess
+  // keeps its shape (cutting each vertex alone crushes the layer that meets
+  // an obstacle first), a body thrown at an obstacle starts the step
+  // touching it, inside the barrier's reach, where P^-1 and the spectrum
+  // estimate made at the guess see the barrier, and a body resting on the
+  // floor does not hold back one falling beside it.
+  const int nb = mesh_.num_bodies();
+  std::vector<double> least_scale(static_cast<std::size_t>(nb), 1.0);
+  inside_.assign(vertices_.size(), 0);
   for (index_t s = 0; s < ns; ++s) {
     const std::size_t v = static_cast<std::size_t>(vertices_[s]);
     const Real* xt = qt + 3 * v;
     for (std::size_t k = 0; k < no; ++k)
-      if (!(obstacle_gap(geometry_[k], xt).g > 0)) inside[s] = 1;
-    if (inside[s]) continue;
+      if (!(obstacle_gap(geometry_[k], xt).g > 0)) inside_[s] = 1;
+    if (inside_[s]) continue;
     const Real d[3] = {q[3 * v] - xt[0], q[3 * v + 1] - xt[1], q[3 * v + 2] - xt[2]};
-    least_scale = std::min(least_scale, move_fraction(geometry_.data(), static_cast<int>(no), xt, d,
-                                                      Real(0), dh_ / 2));
+    const Real scale =
+        move_fraction(geometry_.data(), static_cast<int>(no), xt, d, Real(0), dh_ / 2);
+    double& least = least_scale[vertex_body_[v]];
+    least = std::min(least, static_cast<double>(scale));
   }
-  const Real scale = static_cast<Real>(-reduction_.max_of(-static_cast<double>(least_scale)));
-  if (scale < Real(1)) {
-    const std::size_t n = 3 * static_cast<std::size_t>(mesh_.num_vertices());
-    for (std::size_t k = 0; k < n; ++k) q[k] = qt[k] + scale * (q[k] - qt[k]);
+  // The minimum over ranks, through the maximum of the negations.
+  for (double& l : least_scale) l = -l;
+  reduction_.max_in_place(least_scale.data(), nb);
+  const std::size_t nv = static_cast<std::size_t>(mesh_.num_vertices());
+  for (std::size_t v = 0; v < nv; ++v) {
+    const Real scale = static_cast<Real>(-least_scale[vertex_body_[v]]);
+    if (scale < Real(1))
+      for (std::size_t k = 3 * v; k < 3 * v + 3; ++k) q[k] = qt[k] + scale * (q[k] - qt[k]);
   }
-  for (index_t s = 0; s < ns; ++s) {
-    if (!inside[s]) continue;
+}
+
+template <class Real>
+void ObstacleContact<Real>::push_out(const Real* qt, Real* q) const {
+  if (!energy_) return;
+  // Vertices an obstacle has moved onto are pushed out along its normal, to
+  // half the activation distance (a few passes settle corners).
+  const std::size_t no = obstacles_.size();
+  for (std::size_t s = 0; s < vertices_.size(); ++s) {
+    if (!inside_[s]) continue;
     const std::size_t v = static_cast<std::size_t>(vertices_[s]);
     Real* x = q + 3 * v;
     for (int i = 0; i < 3; ++i) x[i] = qt[3 * v + i];

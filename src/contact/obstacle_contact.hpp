@@ -12,6 +12,7 @@
 //   lags: FrictionLag per surface vertex and obstacle ([num_obstacles s + k]),
 //     set at each step's start.
 //   geometry: each obstacle where it is at the end of the step.
+#include <cstdint>
 #include <vector>
 
 #include "comm/halo.hpp"
@@ -39,11 +40,16 @@ class ObstacleContact {
 
   // A step from time t (positions qt) to t + h: the obstacles moved to
   // t + h, the friction lags from qt, and with "energy" the guess q made to
-  // keep every surface vertex outside every obstacle (the whole move from
-  // qt scaled by one factor for the body; a vertex an obstacle moved onto
-  // is pushed out along the normal). Collective with "energy" (the factor's
-  // minimum over ranks: one allreduce per step).
+  // keep every surface vertex outside every obstacle (each body's whole move
+  // from qt scaled by one factor). Collective with "energy" (each body's
+  // factor's minimum over ranks: one allreduce per step). push_out() then
+  // finishes the guess.
   void begin_step(double t, const Real* qt, Real* q);
+  // With "energy": each surface vertex an obstacle moved onto in this step
+  // (found by begin_step) put back at qt and pushed out along the normal.
+  // Apart from begin_step so that moves scaled in between (pairs between
+  // bodies) do not undo the push.
+  void push_out(const Real* qt, Real* q) const;
 
   // "projection": moves each surface vertex inside an obstacle at the end of
   // the step to its surface (the obstacle is rigid and immovable, so the
@@ -80,6 +86,7 @@ class ObstacleContact {
 
  private:
   const LocalMesh& mesh_;
+  const std::vector<int> vertex_body_;  // per local vertex
   EnergyReduction& reduction_;
   std::vector<Obstacle> obstacles_;
   bool energy_ = true;
@@ -91,6 +98,7 @@ class ObstacleContact {
   std::vector<FrictionLag<Real>> lags_;
   std::vector<ObstacleGeometry<Real>> start_, geometry_;  // at the step's start and end
   std::vector<Real> start_positions_;                     // 3 per surface vertex
+  std::vector<std::uint8_t> inside_;  // per surface vertex: an obstacle moved onto it
   // "projection": per obstacle the last step's correction force (xyz) and
   // corrected vertices over owned surface vertices, and the deepest
   // penetration before it.

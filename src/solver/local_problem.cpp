@@ -318,11 +318,14 @@ Energy LocalProblem<Real>::local_energy(const Real* q, const Real* y, const Real
 
 template <class Real>
 void LocalProblem<Real>::begin_contact_step(double t, const Real* qt, Real* q) {
-  // The pairs between bodies pull the guess back first, from the whole
-  // predicted motion; an obstacle may pull it back further (closing no pair
-  // more); the pairs are then found about the guess the iterations start at.
-  if (body_contact_) body_contact_->pull_back(qt, q);
+  // The obstacles pull each body's guess back first, then the pairs between
+  // bodies each contact island's (along the path left, so closing no
+  // obstacle's gap more); vertices a moving obstacle ran into are pushed
+  // out last, so no scaling undoes it; the pairs are then found about the
+  // guess the iterations start at.
   if (contact_) contact_->begin_step(t, qt, q);
+  if (body_contact_) body_contact_->pull_back(qt, q);
+  if (contact_) contact_->push_out(qt, q);
   if (body_contact_) body_contact_->rebuild_here(q);
 }
 

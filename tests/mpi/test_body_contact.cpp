@@ -4,7 +4,7 @@
 // apart; at 20 m/s relative speed and dt = 1/30 no
 // iterate of any step has them overlap; P ranks give one rank's result with
 // the contact pairs spanning ranks; bodies that touch at the start are an
-// error.
+// error; each contact island keeps its own share of the step's guess.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -191,7 +191,7 @@ TEST(BodyContact, ADroppedBoxComesToRestOnTheBarrier) {
   slab.mesh.box.cells = {5, 1, 5};
   slab.mesh.box.size = {0.6, 0.1, 0.6};
   slab.mesh.box.origin = {-0.3, -0.1, -0.3};
-  Body block = box({0.03, 0.11, 0.02}, 0.0);  // its bottom 0.01 above the slab, at 3 m/s
+  Body block = box({0.03, 0.11, 0.02}, 0.0);  // its bottom 0.11 above the slab, at 3 m/s
   block.velocity = {0, -3.0, 0};
   scene.bodies = {slab, block};
   FixedRegion held;
@@ -219,6 +219,45 @@ TEST(BodyContact, ADroppedBoxComesToRestOnTheBarrier) {
   const double bottom = measured(sim, "body1_com_y") - 0.1;  // half its height
   EXPECT_GT(bottom, 0.0);
   EXPECT_LT(bottom, dh);
+}
+
+// The guess's pull-back scales each contact island's move by its own
+// fraction: a box thrown down onto another is held back to keep half their
+// gap, while a box falling beside them keeps its whole move (one fraction
+// for the scene once held every body of a pile back whenever two touched).
+TEST(BodyContact, EachContactIslandKeepsItsOwnShareOfTheGuess) {
+  const double dh = 1e-3, drop = 0.01;
+  Scene scene;
+  // Box 1 lies 0.5 dh above box 0; box 2 is far from both.
+  scene.bodies = {box({-0.4, 0, 0}, 0.0), box({-0.38, 0.2 + 0.5 * dh, 0.01}, 0.0),
+                  box({0.4, 0, 0}, 0.0)};
+  scene.gravity = {0, 0, 0};
+  scene.contact.distance = dh;
+  const Mesh mesh = build_scene_mesh(scene);
+  Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+  LocalProblem<double>& problem = sim.problem();
+  const LocalMesh& local = problem.mesh();
+  const std::vector<int> body = vertex_bodies(local);
+  const std::vector<double>& qt = local.rest_positions;
+  // Boxes 1 and 2 move down by `drop`, box 1 through box 0.
+  std::vector<double> q = qt;
+  for (std::size_t v = 0; v < body.size(); ++v)
+    if (body[v] > 0) q[3 * v + 1] -= drop;
+  problem.body_contact()->pull_back(qt.data(), q.data());
+  double kept[3] = {-1, -1, -1};  // each body's share of its move, the same for all its vertices
+  for (std::size_t v = 0; v < body.size(); ++v) {
+    const double share = body[v] == 0 ? 0.0 : (qt[3 * v + 1] - q[3 * v + 1]) / drop;
+    if (kept[body[v]] < 0) kept[body[v]] = share;
+    EXPECT_NEAR(share, kept[body[v]], 1e-12) << "vertex " << v;
+  }
+  double shares[2] = {kept[1], kept[2]};
+  MPI_Allreduce(MPI_IN_PLACE, shares, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  EXPECT_NEAR(shares[1], 1.0, 1e-12);
+  // Box 1 stops before half its gap of 0.5 dh to box 0 is gone, and not
+  // much before: conservative advancement approaches the floor closely.
+  EXPECT_GT(shares[0], 0.0);
+  EXPECT_LE(shares[0] * drop, 0.25 * dh * (1 + 1e-9));
+  EXPECT_GT(shares[0] * drop, 0.2 * dh);
 }
 
 TEST(BodyContact, ABlockOnAnInclinedBodySticksOrSlidesAsCoulombSays) {
