@@ -25,8 +25,8 @@
 // still close a pair, so at the next exchange every pair's path is proven
 // free of crossings; one that is not makes the step's next energy check
 // infinite (no extra collective): the check rolls back, and the rest of
-// the step runs the safe guard, which cuts every vertex's own move to a
-// quarter of its nearest pair's closable gap, so no two sides can cross.
+// the step runs the safe guard, which cuts every vertex's own move to
+// half of what its nearest pair may close, so no two sides can cross.
 #include <array>
 #include <chrono>
 #include <vector>
