@@ -284,7 +284,7 @@ std::vector<double> ObstacleContact<Real>::local_sums(const Real* q) const {
       ContactTerms<Real> terms;
       const Real g = add_barrier(geometry_[k], kappa_[s], dh_, q + 3 * v, false, terms);
       add_friction(lags_[no * s + k], eps_h_, q + 3 * v,
-                   &start_positions_[3 * static_cast<std::size_t>(s)], terms);
+                   &start_positions_[3 * static_cast<std::size_t>(s)], false, terms);
       for (int i = 0; i < 3; ++i) sums[4 * k + i] += static_cast<double>(terms.grad[i]);
       if (g < dh_) sums[4 * k + 3] += 1;
     }

@@ -178,11 +178,20 @@ DESCENT_HOST_DEVICE inline Real add_barrier(const ObstacleGeometry<Real>& o, Rea
 }
 
 // Lagged friction on a slip s (3-vector) with lagged normal n: the energy
-// mu_lambda f0(|u|), u = (I - n n^T) s, its gradient in s and its Hessian in
-// s (row-major; positive semi-definite in both regimes).
+// mu_lambda f0(|u|), u = (I - n n^T) s, its gradient in s and, row-major,
+// with `exact` its Hessian in s (positive semi-definite in both regimes),
+// else mu_lambda f1(y)/y (I - n n^T), y = |u|: the curvature of the
+// quadratic in u that touches mu_lambda f0(|u|) at u and lies above it
+// (f1 = f0' is concave, so f1(y)/y is at least the curvature f1'(y) along
+// u). The exact curvature along a sliding u is 0, so a diagonal built from
+// it let each iteration carry a contact vertex across the sticking core
+// (width eps_h) and back: the snowman's energy oscillated by 0.5% of
+// itself and its steps ended at the iteration cap. From the majorant a
+// Jacobi step along u stops at the sticking point at most.
 template <class Real>
 DESCENT_HOST_DEVICE inline ContactTerms<Real> friction_on_slip(Real mu_lambda, const Real* n,
-                                                               Real eps_h, const Real* s) {
+                                                               Real eps_h, const Real* s,
+                                                               bool exact) {
   ContactTerms<Real> out;
   const Real sn = s[0] * n[0] + s[1] * n[1] + s[2] * n[2];
   Real u[3];
@@ -205,21 +214,22 @@ DESCENT_HOST_DEVICE inline ContactTerms<Real> friction_on_slip(Real mu_lambda, c
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       const Real p = (i == j ? Real(1) : Real(0)) - n[i] * n[j];
-      out.hess[3 * i + j] = mu_lambda * (f1_over_y * p + c * u[i] * u[j]);
+      out.hess[3 * i + j] = mu_lambda * (f1_over_y * p + (exact ? c * u[i] * u[j] : Real(0)));
     }
   return out;
 }
 
 // Adds the lagged friction of one obstacle at x (step start xt) to `out`:
 // the slip is the vertex's move relative to the obstacle's, x - xt - w.
+// `exact` as friction_on_slip takes it.
 template <class Real>
 DESCENT_HOST_DEVICE inline void add_friction(const FrictionLag<Real>& lag, Real eps_h,
-                                             const Real* x, const Real* xt,
+                                             const Real* x, const Real* xt, bool exact,
                                              ContactTerms<Real>& out) {
   if (!(lag.mu_lambda > Real(0))) return;
   Real s[3];
   for (int i = 0; i < 3; ++i) s[i] = x[i] - xt[i] - lag.w[i];
-  const ContactTerms<Real> f = friction_on_slip(lag.mu_lambda, lag.n, eps_h, s);
+  const ContactTerms<Real> f = friction_on_slip(lag.mu_lambda, lag.n, eps_h, s, exact);
   out.energy += f.energy;
   for (int i = 0; i < 3; ++i) out.grad[i] += f.grad[i];
   for (int i = 0; i < 9; ++i) out.hess[i] += f.hess[i];
@@ -234,7 +244,7 @@ DESCENT_HOST_DEVICE inline ContactTerms<Real> vertex_contact(
   ContactTerms<Real> out;
   for (int k = 0; k < count; ++k) {
     add_barrier(obstacles[k], kappa, dh, x, exact, out);
-    add_friction(lags[k], eps_h, x, xt, out);
+    add_friction(lags[k], eps_h, x, xt, exact, out);
   }
   return out;
 }

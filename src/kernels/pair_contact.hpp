@@ -93,7 +93,8 @@ DESCENT_HOST_DEVICE inline PairTerms<Real> pair_barrier(PairKind kind, const Rea
 // normal force. The slip is the closest points' relative move
 // s = sum_k c_k (x_k - x_k^t); the term mu lambda f0(|(I - n n^T) s|) with
 // f0 of obstacle friction (friction_on_slip). Its Hessian, c c^T times the
-// slip's, is positive semi-definite.
+// slip's, is positive semi-definite; PairHessian::psd takes the slip's
+// majorant (friction_on_slip) in its place.
 template <class Real>
 struct PairFrictionLag {
   Real mu_lambda = 0;  // 0: no friction (the pair was beyond dh at x_t)
@@ -131,7 +132,8 @@ DESCENT_HOST_DEVICE inline void add_pair_friction(const PairFrictionLag<Real>& l
   Real s[3] = {0, 0, 0};
   for (int k = 0; k < 4; ++k)
     for (int i = 0; i < 3; ++i) s[i] += lag.c[k] * (x[3 * k + i] - xt[3 * k + i]);
-  const ContactTerms<Real> f = friction_on_slip(lag.mu_lambda, lag.n, eps_h, s);
+  const ContactTerms<Real> f =
+      friction_on_slip(lag.mu_lambda, lag.n, eps_h, s, hessian == PairHessian::exact);
   out.energy += f.energy;
   for (int k = 0; k < 4; ++k)
     for (int i = 0; i < 3; ++i) out.grad[3 * k + i] += lag.c[k] * f.grad[i];

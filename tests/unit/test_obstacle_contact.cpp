@@ -2,11 +2,13 @@
 // central finite differences: the gap's normal and curvature from the gap,
 // the barrier's derivatives, and a vertex's contact gradient from its energy
 // and exact Hessian from its gradient (plane, sphere and box, moved and
-// rotated; barrier and lagged friction in both regimes). Then the guard: no
+// rotated; barrier and lagged friction in both regimes); the friction's
+// majorant for the diagonal lies above it. Then the guard: no
 // guarded move of random size ever ends inside an obstacle, and a move that
 // needs no cut is left bit for bit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -220,6 +222,48 @@ TEST(VertexContact, ProjectedHessianIsPositiveSemiDefinite) {
       EXPECT_GE(php, -1e-9 * (std::abs(t.hess[0]) + std::abs(t.hess[4]) + std::abs(t.hess[8])));
     }
   }
+}
+
+// The friction's diagonal comes from a majorant: the quadratic with its
+// gradient and Hessian at s lies above mu lambda f0 along any move (so a
+// Jacobi step from it cannot overshoot the sticking core), its Hessian is at
+// least the exact one, and in the sticking core's centre they agree.
+TEST(FrictionMajorant, LiesAboveTheFrictionAndItsExactHessian) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double mu_lambda = 3.0, eps_h = 1e-3;
+  const double n[3] = {0.36, 0.48, 0.8};
+  for (double slip : {0.0, 3e-4, 9e-4, 2e-3, 5e-2}) {  // sticking to sliding
+    for (int trial = 0; trial < 50; ++trial) {
+      double s[3];
+      for (double& c : s) c = slip * u(rng);
+      const ContactTerms<double> exact = friction_on_slip(mu_lambda, n, eps_h, s, true);
+      const ContactTerms<double> major = friction_on_slip(mu_lambda, n, eps_h, s, false);
+      for (int i = 0; i < 3; ++i) EXPECT_EQ(major.grad[i], exact.grad[i]);
+      const double scale = mu_lambda * std::max(slip, eps_h);
+      for (double reach : {1e-4, 1e-3, 1e-2, 1e-1}) {
+        double d[3], ds[3], gd = 0, dmd = 0, ddiff = 0;
+        for (int i = 0; i < 3; ++i) {
+          d[i] = reach * u(rng);
+          ds[i] = s[i] + d[i];
+          gd += major.grad[i] * d[i];
+        }
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            dmd += d[i] * major.hess[3 * i + j] * d[j];
+            ddiff += d[i] * (major.hess[3 * i + j] - exact.hess[3 * i + j]) * d[j];
+          }
+        const double moved = friction_on_slip(mu_lambda, n, eps_h, ds, false).energy;
+        EXPECT_LE(moved, major.energy + gd + 0.5 * dmd + 1e-12 * scale)
+            << "slip " << slip << " reach " << reach;
+        EXPECT_GE(ddiff, -1e-12 * mu_lambda / eps_h * reach * reach);
+      }
+    }
+  }
+  const double centre[3] = {0, 0, 0};
+  const ContactTerms<double> exact = friction_on_slip(mu_lambda, n, eps_h, centre, true);
+  const ContactTerms<double> major = friction_on_slip(mu_lambda, n, eps_h, centre, false);
+  for (int k = 0; k < 9; ++k) EXPECT_EQ(major.hess[k], exact.hess[k]);
 }
 
 TEST(GuardMove, NoGuardedMoveEndsInside) {
