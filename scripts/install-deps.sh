@@ -17,6 +17,7 @@ packages=(
   python3-matplotlib              # tests/slurm: the scaling table job's plot (tools/scaling_table.py)
   python3-meshio                  # tests/cli: frames.xdmf read as a time series
   ffmpeg                          # tools/plot_run.py --movie encodes MP4s; tests/cli renders one
+  gmsh                            # tests/mpi/test_hertz meshes its graded hemisphere (skips without)
   petsc-dev                       # optional: Newton with AMG, TAO's methods (docs/petsc.md)
 )
 missing=()
