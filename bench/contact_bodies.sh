@@ -9,6 +9,10 @@
 #   bench/contact_bodies.sh [BUILD_DIR]
 #   RUNS=3 FRAMES=30 bench/contact_bodies.sh
 #   SCENES="pile snowman" bench/contact_bodies.sh     # a subset
+#   SCENES=pile RANKS="1 2 3 4" bench/contact_bodies.sh  # other rank counts
+#   BASELINE=/path/to/other/build bench/contact_bodies.sh
+#     # each run also with that build's descent (built by the caller),
+#     # interleaved, so before/after ratios come from one run
 #
 # Writes bench/results/contact/contact_bodies.csv (one line per run) and
 # contact_bodies.log (the machine, the commands, the medians).
@@ -23,29 +27,40 @@ out=$root/bench/results/contact
 mkdir -p "$out" "$scratch"
 log=$out/contact_bodies.log
 # A subset writes its own table beside the full one.
-subset=${SCENES:+_${SCENES// /_}}
+subset=${SCENES:+_${SCENES// /_}}${RANKS:+_ranks${RANKS// /}}
 csv=$out/contact_bodies$subset.csv
-echo "scene,ranks,run,frames,ms_per_frame,iterations,stalled,least_distance,contact_share,search_ms,ghosts_ms,terms_ms,guard_ms,paths_caught" >"$csv"
+echo "build,scene,ranks,run,frames,ms_per_frame,iterations,stalled,least_distance,contact_share,search_ms,ghosts_ms,terms_ms,guard_ms,paths_caught" >"$csv"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 
 cmake --build "$build" --target descent -j2 >/dev/null
 bin=$build/src/app/descent
+builds=(current)
+if [[ -n ${BASELINE:-} ]]; then
+  [[ -x $BASELINE/src/app/descent ]] || { echo "contact_bodies: no $BASELINE/src/app/descent" >&2; exit 1; }
+  builds+=(baseline)
+fi
 {
   echo "== $(date -u +%FT%TZ) contact between bodies"
   echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc --all) cores; no GPU used"
   echo "tree: $(git -C "$root" rev-parse --short HEAD) (+ working tree)"
-  echo "runs $runs, frames $frames, OMP_NUM_THREADS=1"
+  echo "runs $runs, frames $frames, OMP_NUM_THREADS=1; load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+  if [[ -n ${BASELINE:-} ]]; then
+    echo "baseline: $BASELINE/src/app/descent ($(git -C "$BASELINE/.." rev-parse --short HEAD 2>/dev/null || echo '?'))"
+  fi
   echo "command: mpiexec -n RANKS ${bin#"$root"/} run jobs/contact/SCENE.toml --set time.frames=$frames"
 } | tee -a "$log"
 
 for scene in ${SCENES:-bodies_floor snowman bowling pile}; do
-  for ranks in 1 2; do
+  for ranks in ${RANKS:-1 2}; do
     for k in $(seq 1 "$runs"); do
-      dir=$scratch/$scene.$ranks.$k
-      rm -rf "$dir"
-      mpiexec --oversubscribe -n "$ranks" "$bin" run "$root/jobs/contact/$scene.toml" \
-        --set "output.dir=\"$dir\"" --set "time.frames=$frames" >"$dir.out" 2>&1
-      "$python" - "$dir/stats.csv" "$dir.out" "$scene" "$ranks" "$k" "$frames" >>"$csv" <<'PY'
+      for which in "${builds[@]}"; do
+        dir=$scratch/$scene.$ranks.$k.$which
+        rm -rf "$dir"
+        exe=$bin
+        [[ $which == baseline ]] && exe=$BASELINE/src/app/descent
+        mpiexec --oversubscribe -n "$ranks" "$exe" run "$root/jobs/contact/$scene.toml" \
+          --set "output.dir=\"$dir\"" --set "time.frames=$frames" >"$dir.out" 2>&1
+        "$python" - "$dir/stats.csv" "$dir.out" "$which" "$scene" "$ranks" "$k" "$frames" >>"$csv" <<'PY'
 import csv, re, statistics, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 ms = statistics.mean(float(r["wall_ms"]) for r in rows)
@@ -56,8 +71,9 @@ text = open(sys.argv[2]).read()
 m = re.search(r"contact between bodies ([0-9.]+)% .*pair search ([0-9.]+) ms, ghosts ([0-9.]+) ms, "
               r"terms ([0-9.]+) ms, guard ([0-9.]+) ms; ([0-9]+) path", text)
 parts = list(m.groups()) if m else ["", "", "", "", "", ""]
-print(",".join(sys.argv[3:7] + [f"{ms:.1f}", str(its), str(stalled), f"{least:.3g}"] + parts))
+print(",".join(sys.argv[3:8] + [f"{ms:.1f}", str(its), str(stalled), f"{least:.3g}"] + parts))
 PY
+      done
     done
   done
 done
@@ -65,10 +81,11 @@ done
 "$python" - "$csv" <<'PY' | tee -a "$log"
 import csv, statistics, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-print("scene          ranks  ms/frame (median)  iterations  stalled  least distance  contact share (median)  paths caught")
-for key in sorted({(r["scene"], r["ranks"]) for r in rows}):
-    mine = [r for r in rows if (r["scene"], r["ranks"]) == key]
+print("build     scene          ranks  ms/frame (median)  iterations  stalled  least distance  contact share (median)  paths caught")
+for key in sorted({(r["scene"], r["ranks"], r["build"]) for r in rows}):
+    mine = [r for r in rows if (r["scene"], r["ranks"], r["build"]) == key]
     med = lambda f: statistics.median(float(r[f]) for r in mine)
-    print(f"{key[0]:14s} {key[1]:>5s}  {med('ms_per_frame'):17.1f}  {mine[0]['iterations']:>10s}  "
-          f"{mine[0]['stalled']:>7s}  {float(mine[0]['least_distance']):14.3g}  {med('contact_share'):21.1f}%  {mine[0]['paths_caught']:>12s}")
+    share = statistics.median(float(r["contact_share"] or "nan") for r in mine)
+    print(f"{key[2]:9s} {key[0]:14s} {key[1]:>5s}  {med('ms_per_frame'):17.1f}  {mine[0]['iterations']:>10s}  "
+          f"{mine[0]['stalled']:>7s}  {float(mine[0]['least_distance']):14.3g}  {share:21.1f}%  {mine[0]['paths_caught']:>12s}")
 PY
