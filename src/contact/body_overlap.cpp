@@ -191,6 +191,12 @@ void check_bodies_apart(const Mesh& mesh, const std::vector<std::string>& names)
         Aabb box;
         box.add(at(v));
         if (!box.overlaps(target.bounds)) continue;
+        // Grown by the distance that still counts as on the surface: a
+        // vertex on a face may lie a rounding outside the face's box.
+        for (int i = 0; i < 3; ++i) {
+          box.lo[i] -= kOnSurface * length;
+          box.hi[i] += kOnSurface * length;
+        }
         // Inside: strictly inside a tet, or on a tet's boundary (an inner
         // face, edge or corner) and on no surface triangle of the body.
         tets.candidates(box, found);

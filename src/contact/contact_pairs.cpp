@@ -51,8 +51,10 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
     return std::any_of(v.begin(), v.end(), [&](index_t c) { return c < local; });
   };
   auto by_id = [&](index_t a, index_t b) { return gid[a] < gid[b]; };
-  // Along the paths a pair's gap closes by at most its vertices' summed
-  // move lengths whatever the fractions, and within one body (its moves
+  // Along the paths a pair's gap closes by at most the longest move of one
+  // side plus the longest of the other whatever the fractions (a point of a
+  // primitive moves by a convex combination of its vertices' moves, all
+  // scaled alike as they lie on one body), and within one body (its moves
   // scaled alike) by at most the largest difference between a move of one
   // side and one of the other (kernels/pair_path.hpp).
   auto move = [&](index_t c, int i) {
@@ -74,7 +76,12 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
         for (int b = second_side; b < 4; ++b)
           closing = std::max(closing, distance_of_moves(v[a], v[b]));
     } else {
-      for (index_t c : v) closing += distance_of_moves(c, -1);
+      double longest[2] = {0, 0};
+      for (int a = 0; a < 4; ++a) {
+        double& side = longest[a < second_side ? 0 : 1];
+        side = std::max(side, distance_of_moves(v[a], -1));
+      }
+      closing = longest[0] + longest[1];
     }
     return std::sqrt(static_cast<double>(d2)) - closing < reach;
   };

@@ -36,7 +36,8 @@ double SpatialHash::cell_size_for(const std::vector<Aabb>& boxes) {
   return mean > 0 ? mean : 1.0;
 }
 
-SpatialHash::SpatialHash(const std::vector<Aabb>& boxes, double cell_size) : cell_size_(cell_size) {
+SpatialHash::SpatialHash(const std::vector<Aabb>& boxes, double cell_size)
+    : cell_size_(cell_size), boxes_(boxes) {
   DESCENT_VERIFY(cell_size > 0 && std::isfinite(cell_size), "spatial hash cell size ", cell_size);
   std::vector<std::pair<std::uint64_t, index_t>> entries;
   for (std::size_t id = 0; id < boxes.size(); ++id) {
@@ -81,6 +82,9 @@ void SpatialHash::candidates(const Aabb& query, std::vector<index_t>& out) const
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [&](index_t id) { return !boxes_[id].overlaps(query); }),
+            out.end());
 }
 
 }  // namespace descent

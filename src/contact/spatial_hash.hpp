@@ -38,8 +38,9 @@ class SpatialHash {
   static constexpr std::int64_t kMaxCellsPerBox = 4096;
   SpatialHash(const std::vector<Aabb>& boxes, double cell_size);
 
-  // Ids of the boxes that may overlap `query` (each once, ascending); the
-  // caller tests them exactly.
+  // Ids of the boxes that overlap `query` (each once, ascending): exactly
+  // those, whatever the cell size, so what a search finds does not depend
+  // on the boxes a rank happens to hold; the caller tests the primitives.
   void candidates(const Aabb& query, std::vector<index_t>& out) const;
 
   // A cell edge for boxes about this size: the mean largest extent.
@@ -50,6 +51,7 @@ class SpatialHash {
   static std::uint64_t key(const std::array<std::int64_t, 3>& cell);
 
   double cell_size_;
+  std::vector<Aabb> boxes_;
   std::vector<std::uint64_t> keys_;  // sorted distinct cell keys
   std::vector<index_t> offsets_;     // ids of keys_[c] at ids_[offsets_[c] .. offsets_[c + 1])
   std::vector<index_t> ids_;

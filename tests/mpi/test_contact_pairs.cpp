@@ -64,12 +64,30 @@ Key key_of(const ContactHalo<double>& halo, int kind, const std::array<index_t, 
           halo.global_id()[v[3]]};
 }
 
-Found pairs_on(MPI_Comm comm, const Mesh& mesh, double reach, bool self) {
+using Move = std::array<double, 3>;
+
+// The pairs found about the rest positions, or, with one move per body,
+// along the straight paths from them to the moved positions.
+Found pairs_on(MPI_Comm comm, const Mesh& mesh, double reach, bool self,
+               const std::vector<Move>& moves = {}) {
   DistributedMesh distributed = distribute_mesh(comm, mesh, PartitionSpec{});
-  Halo<double> halo(comm, distributed.local);
-  ContactHalo<double> contact(distributed.local, halo);
-  contact.rebuild(distributed.local.rest_positions.data(), reach);
-  const ContactPairs pairs = find_contact_pairs(contact, reach, self);
+  const LocalMesh& local = distributed.local;
+  Halo<double> halo(comm, local);
+  ContactHalo<double> contact(local, halo);
+  std::vector<double> moved(local.rest_positions);
+  for (index_t v = 0; v < local.num_vertices() && !moves.empty(); ++v)
+    for (int i = 0; i < 3; ++i)
+      moved[3 * v + i] +=
+          moves[body_of_vertex(mesh.body_vertex_offsets, local.global_vertex[v])][i];
+  std::vector<double> to;
+  if (!moves.empty()) {
+    contact.rebuild(local.rest_positions.data(), reach, {}, moved.data());
+    contact.gather(moved.data(), to);
+  } else {
+    contact.rebuild(local.rest_positions.data(), reach);
+  }
+  const ContactPairs pairs =
+      find_contact_pairs(contact, reach, self, moves.empty() ? nullptr : &to);
   Found found;
   for (int kind = 0; kind < 2; ++kind)
     for (const auto& v : kind == 0 ? pairs.vertex_triangle : pairs.edge_edge) {
@@ -167,6 +185,89 @@ TEST(ContactPairs, TheHashMissesNoPair) {
     }
   std::sort(brute.begin(), brute.end());
   EXPECT_EQ(pairs_on(MPI_COMM_SELF, mesh, reach, false).all, brute);
+}
+
+// Along paths (the guess's pull-back, contact/body_contact.hpp): exactly the
+// pairs of two bodies whose boxes over both ends of their paths come within
+// reach and whose gap, less the longest move of each side, is below reach,
+// the same whatever the rank count (the hash's cells, sized from the boxes
+// a rank holds, must not decide). The first body slides and the second
+// falls past it; the far third body travels a long way alone.
+TEST(ContactPairs, ASweptSearchFindsThePairsWhosePathsMayComeWithinReach) {
+  const Mesh mesh = three_bodies();
+  constexpr double reach = 0.01;
+  const std::vector<Move> moves = {{-0.05, 0, 0.03}, {0.12, -0.05, 0}, {-0.6, 0, 0}};
+  const Found whole = pairs_on(MPI_COMM_SELF, mesh, reach, false, moves);
+  auto body = [&](global_index_t id) { return body_of_vertex(mesh.body_vertex_offsets, id); };
+  auto at = [&](global_index_t id, double s, double* out) {
+    for (int i = 0; i < 3; ++i) out[i] = mesh.positions[3 * id + i] + s * moves[body(id)][i];
+  };
+  // Surface triangles and edges: those of the halo on one rank.
+  DistributedMesh distributed = distribute_mesh(MPI_COMM_SELF, mesh, PartitionSpec{});
+  Halo<double> halo(MPI_COMM_SELF, distributed.local);
+  ContactHalo<double> contact(distributed.local, halo);
+  contact.rebuild(distributed.local.rest_positions.data(), reach);
+  const auto& gid = contact.global_id();
+  std::set<std::array<global_index_t, 3>> triangles;
+  std::set<std::array<global_index_t, 2>> edges;
+  std::set<global_index_t> vertices;
+  for (const auto& t : contact.triangles()) {
+    triangles.insert({gid[t[0]], gid[t[1]], gid[t[2]]});
+    for (int k = 0; k < 3; ++k) {
+      vertices.insert(gid[t[k]]);
+      edges.insert(
+          {std::min(gid[t[k]], gid[t[(k + 1) % 3]]), std::max(gid[t[k]], gid[t[(k + 1) % 3]])});
+    }
+  }
+  auto length = [](const Move& m) { return std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]); };
+  // Boxes over both ends, the first grown by reach, meet.
+  auto boxes_meet = [&](const std::vector<global_index_t>& a,
+                        const std::vector<global_index_t>& b) {
+    for (int i = 0; i < 3; ++i) {
+      double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+      for (int side = 0; side < 2; ++side)
+        for (global_index_t id : side == 0 ? a : b)
+          for (double s : {0.0, 1.0}) {
+            double x[3];
+            at(id, s, x);
+            lo[side] = std::min(lo[side], x[i]);
+            hi[side] = std::max(hi[side], x[i]);
+          }
+      if (hi[0] + reach < lo[1] || hi[1] < lo[0] - reach) return false;
+    }
+    return true;
+  };
+  std::vector<Key> brute;
+  double y[12];
+  for (global_index_t p : vertices)
+    for (const auto& t : triangles) {
+      if (body(p) == body(t[0]) || !boxes_meet({p}, {t[0], t[1], t[2]})) continue;
+      at(p, 0, y);
+      for (int k = 0; k < 3; ++k) at(t[k], 0, y + 3 * (k + 1));
+      const double closing = length(moves[body(p)]) + length(moves[body(t[0])]);
+      if (std::sqrt(point_triangle_distance(y, false).d2) - closing < reach)
+        brute.push_back({0, p, t[0], t[1], t[2]});
+    }
+  for (auto a = edges.begin(); a != edges.end(); ++a)
+    for (auto b = std::next(a); b != edges.end(); ++b) {
+      const auto &e = *a, &f = *b;
+      if (body(e[0]) == body(f[0])) continue;
+      // The search grows the later edge's box (by global ids), as here the
+      // first; either way the boxes meet within reach.
+      if (!boxes_meet({e[0], e[1]}, {f[0], f[1]})) continue;
+      at(e[0], 0, y);
+      at(e[1], 0, y + 3);
+      at(f[0], 0, y + 6);
+      at(f[1], 0, y + 9);
+      const double closing = length(moves[body(e[0])]) + length(moves[body(f[0])]);
+      if (std::sqrt(edge_edge_distance(y, false).d2) - closing < reach)
+        brute.push_back({1, e[0], e[1], f[0], f[1]});
+    }
+  std::sort(brute.begin(), brute.end());
+  ASSERT_GT(brute.size(), 10u);
+  EXPECT_EQ(whole.all, brute);
+  const Found mine = pairs_on(MPI_COMM_WORLD, mesh, reach, false, moves);
+  EXPECT_EQ(gather_keys(MPI_COMM_WORLD, mine.counted), whole.all);
 }
 
 TEST(ContactPairs, GhostsFollowTheirHoldersPositions) {
