@@ -87,6 +87,32 @@ TEST(ChebyshevBound, TridiagonalExtremesMatchADenseSolver) {
   }
 }
 
+// A Lanczos matrix recorded from a box thrown onto a floor (extremes
+// suite, neo-Hookean): unscaled, Eigen's tridiagonal QL gave up on it and
+// returned its values unsorted.
+TEST(ChebyshevBound, TridiagonalExtremesOfABadlyScaledLanczosMatrix) {
+  const std::vector<double> alpha = {
+      25.177522697122313, 3443.3809333649292, 1393.4138388160354, 722.48253081714529,
+      58.928903604330777, 3182.5996349608376, 1474.8163480033161, 240.37249369651551,
+      992.15169357515015, 8.2066462729878022, 928.38056551622742, 410.10415968140995,
+      3.3540685841275506, 261.83377382636553, 3345.9796002462308, 2.8540729843327002,
+      3511.8189225300175, 17.627456257129086, 249.19867373102775, 797.48481185941887};
+  const std::vector<double> beta = {
+      279.99644460184936, 540.9263924293823,  222.32559048140024, 184.84849867117251,
+      163.46179117367038, 819.88796564367476, 419.65686176113087, 311.45830609099824,
+      21.968003686330409, 20.848376923539114, 618.49970304305543, 7.3100020683867504,
+      7.1630027027550813, 918.81388795875193, 15.875107792071544, 77.622483248438385,
+      215.92606048127826, 4.6822178858184902, 439.87289330446475};
+  const int m = static_cast<int>(alpha.size());
+  Eigen::MatrixXd t = Eigen::MatrixXd::Zero(m, m);
+  for (int i = 0; i < m; ++i) t(i, i) = alpha[i];
+  for (int i = 0; i + 1 < m; ++i) t(i, i + 1) = t(i + 1, i) = beta[i];
+  const Eigen::VectorXd values = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(t).eigenvalues();
+  const RitzExtremes r = tridiagonal_extremes(alpha, beta);
+  EXPECT_NEAR(r.lowest, values.minCoeff(), 1e-9);
+  EXPECT_NEAR(r.highest, values.maxCoeff(), 1e-9);
+}
+
 TEST(CheckHistory, ReadsTheRelativeErrorOfAGeometricDecay) {
   // eps_k = eps* + 100 r^j at checks j = 0, 1, ...: the remaining error is
   // known exactly once the decay is geometric.
