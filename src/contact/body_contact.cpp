@@ -492,7 +492,7 @@ void BodyContact<Real>::update_ghosts(const Real* q) {
     const auto begin = std::chrono::steady_clock::now();
     verify_paths_ = false;
     if (!paths_clear()) {
-      crossing_ = safe_ = true;
+      crossing_ = true;
       ++paths_caught_;
     }
     const double spent =

@@ -25,8 +25,9 @@
 // still close a pair, so at the next exchange every pair's path is proven
 // free of crossings; one that is not makes the step's next energy check
 // infinite (no extra collective): the check rolls back, and the rest of
-// the step runs the safe guard, which cuts every vertex's own move to
-// half of what its nearest pair may close, so no two sides can cross.
+// the step runs the safe guard on every rank (use_safe_guard()), which cuts
+// every vertex's own move to half of what its nearest pair may close, so no
+// two sides can cross.
 #include <array>
 #include <chrono>
 #include <vector>
@@ -87,6 +88,12 @@ class BodyContact {
   // otherwise carry it on into the pair, closing the gap by the same share
   // every iteration however hard the barrier pushes back.
   void guard(Real* q, Real* q_next, const std::uint8_t* fixed);
+  // The safe guard for the rest of the step. Called on every rank after a
+  // check whose energy was not finite, which an unproven path on any rank
+  // makes it: switched on the detecting rank alone, its neighbours went on
+  // waiting for the path guard's exchange (3 ranks deadlocked on two bodies
+  // thrown at each other), and the ranks' iterates differed from one rank's.
+  void use_safe_guard() { safe_ = true; }
 
   double activation_distance() const { return dh_; }
 

@@ -364,6 +364,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
       break;
     }
     engine_->rollback();
+    if (problem_.body_contact() && !sums.finite[0]) problem_.body_contact()->use_safe_guard();
     if (engine_->preconditioner()) {
       ScopedTimer timer{refresh_seconds_};
       engine_->refresh_preconditioner();
