@@ -180,9 +180,14 @@ bool ChebyshevDescent<Real>::prepare_spectrum(const BodyState<Real>& state, Step
     memory_.lambda_max = upper;
     // Lanczos approaches the bottom from above, slowly where it is a
     // cluster of slow modes; a rigid translation's quotient often lies
-    // lower (the stiff body whose lowest modes are its sway).
+    // lower (the stiff body whose lowest modes are its sway). A Ritz value
+    // at or below zero is a direction of negative curvature at the guess
+    // (a compressed neo-Hookean pin, a barrier's gap curvature), which no
+    // positive bound covers: the translation's quotient bounds the rest
+    // (bowling on 2 ranks: a Ritz value of -0.22 left the floor below,
+    // b / 1e8, and 16 steps ended at the 1,000-iteration cap with e ~ 1).
     double lower = run.ritz.lowest;
-    if (translation > 0 && translation < lower) lower = translation;
+    if (translation > 0 && (translation < lower || !(lower > 0))) lower = translation;
     memory_.lambda_min = std::max(lower, upper / kMaxCondition);
   } else if (!(memory_.lambda_max > 0)) {
     // Nothing to estimate from (no free dof moves, or a non-finite
