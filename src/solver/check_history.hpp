@@ -1,14 +1,17 @@
 #pragma once
-// The energies of the accepted checks of one Chebyshev run (since the
-// recurrence last (re)started) and the relative error they imply: the a
-// posteriori half of the accuracy target (solver.accuracy, issue 11).
+// The energies of the accepted checks of one run of a descent method (since
+// it last (re)started: the step's start or a rollback) and the relative
+// error they imply: the accuracy target of every method that checks its
+// energy (solver.accuracy; issue 11 for Chebyshev, issue 24 for the others).
 //
 // Once the error falls geometrically, eps_k - eps* = D r / (1 - r) with D
 // the last decrease between checks and r the ratio of the last two
-// decreases. r is taken as at least the Chebyshev bound's own ratio over the
-// same iterations, B(k) / B(k_prev), so an early burst of fast decrease does
-// not pass for convergence. Non-monotone stretches (the Chebyshev error
-// oscillates between checks) give no estimate.
+// decreases. With a Chebyshev bound (rate phi > 0) r is taken as at least
+// the bound's own ratio over the same iterations, B(k) / B(k_prev), so an
+// early burst of fast decrease does not pass for convergence; methods
+// without one (phi = 0: gradient descent, Nesterov, NCG, L-BFGS, linear CG's
+// quadratic) read r from the decreases alone. Non-monotone stretches (the
+// Chebyshev and Nesterov errors oscillate between checks) give no estimate.
 //
 // Nor does a window that starts at the (re)start: its fall is the fast
 // start (the modes the bound covers), and beside it the next window's small
@@ -18,6 +21,7 @@
 // stopped the 316K helix at e = 1.2e-4 for a target of 1e-6 (a fall of
 // 2000x, then 4.5x, then 0.27x a window) and an armadillo at 2.9e-3 for
 // 1e-4 (e_8 5.4e-3, e_16 2.9e-3).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -25,6 +29,30 @@
 #include "solver/spectrum.hpp"
 
 namespace descent {
+
+// The stopping rule of the accuracy target TOL, shared by every method that
+// reads its error from a CheckHistory: the step ends once the estimate is
+// below kTargetShare TOL (after the Chebyshev bound's own count, where
+// there is a bound), or below kConfidentShare TOL on the energies alone.
+constexpr double kTargetShare = 0.5;
+constexpr double kConfidentShare = 0.1;
+// The wide window of the error estimate, in checks: a stiff body's error
+// oscillates over several checks (an armadillo at kappa 5e5 stopped at 16x
+// its target on one check's small decrease).
+constexpr int kWideWindow = 4;
+
+// What a history says about the accuracy target (CheckHistory::read).
+struct AccuracyReading {
+  // The larger of the estimates over the last checks and over the last two
+  // windows of kWideWindow checks (the former alone while the latter is
+  // unknown); NaN when neither is known.
+  double estimate = std::numeric_limits<double>::quiet_NaN();
+  // The last checks' estimate at or below kTargetShare TOL and the wide
+  // one not above it.
+  bool below = false;
+  // Both known and at or below kConfidentShare TOL.
+  bool far_below = false;
+};
 
 class CheckHistory {
  public:
@@ -42,11 +70,11 @@ class CheckHistory {
   double restart_energy() const { return energy_.front(); }
 
   // The relative error (eps_k - eps*) / (eps_initial - eps*) of the last
-  // recorded state, for the run's rate phi (solver/spectrum.hpp), from the
-  // decreases over the last two windows of `window` checks each (a wider
-  // window is not fooled by one check near a turning point of the
-  // oscillating error); NaN when there are not 2 windows of evenly spaced,
-  // decreasing checks after the restart's first window.
+  // recorded state, for the run's Chebyshev rate phi (solver/spectrum.hpp;
+  // 0: no bound), from the decreases over the last two windows of `window`
+  // checks each (a wider window is not fooled by one check near a turning
+  // point of the oscillating error); NaN when there are not 2 windows of
+  // evenly spaced, decreasing checks after the restart's first window.
   double relative_error(double initial_energy, double phi, int window = 1) const {
     const double unknown = std::numeric_limits<double>::quiet_NaN();
     const std::size_t n = energy_.size(), w = static_cast<std::size_t>(window);
@@ -56,12 +84,24 @@ class CheckHistory {
     const double d1 = energy_[i0] - energy_[i1], d2 = energy_[i1] - energy_[i2];
     if (!(d1 > 0 && d2 > 0)) return unknown;
     const double bound_ratio =
-        chebyshev_error_bound(phi, k_[i2]) / chebyshev_error_bound(phi, k_[i1]);
+        phi > 0 ? chebyshev_error_bound(phi, k_[i2]) / chebyshev_error_bound(phi, k_[i1]) : 0.0;
     const double r = std::max(d2 / d1, bound_ratio);  // per window
     if (!(r < 1)) return unknown;
     const double remaining = d2 * r / (1 - r);
     const double span = initial_energy - energy_.back() + remaining;
     return span > 0 ? remaining / span : unknown;
+  }
+
+  // The estimates over the last checks and the last wide windows against
+  // the target TOL (> 0).
+  AccuracyReading read(double initial_energy, double phi, double target) const {
+    const double near = relative_error(initial_energy, phi);
+    const double wide = relative_error(initial_energy, phi, kWideWindow);
+    AccuracyReading reading;
+    reading.estimate = std::isnan(wide) ? near : std::max(near, wide);
+    reading.below = near <= kTargetShare * target && !(wide > kTargetShare * target);
+    reading.far_below = near <= kConfidentShare * target && wide <= kConfidentShare * target;
+    return reading;
   }
 
  private:
