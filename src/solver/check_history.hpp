@@ -21,8 +21,21 @@
 // stopped the 316K helix at e = 1.2e-4 for a target of 1e-6 (a fall of
 // 2000x, then 4.5x, then 0.27x a window) and an armadillo at 2.9e-3 for
 // 1e-4 (e_8 5.4e-3, e_16 2.9e-3).
+//
+// Without a bound the fast start lasts longer than a window: under a
+// first-order method the decrease ratio r rises check by check as the fast
+// modes die out (for a quadratic and a stationary iteration the decreases
+// are a positive sum of geometric sequences, whose ratio never falls), so
+// the latest r under-reads the error left, by 7x and more on the small
+// helix (gd stopped at e = 0.66 for 0.1, jacobi_gd at 0.80 for 1e-2). Such a
+// method stops only on a confirmed reading: the estimate below the target
+// at two checks running, and the minimum it predicts, eps_k - (eps_k -
+// eps*), settled: fallen since the previous check by at most half the
+// error left (while r still rises each check finds more error left than
+// the last predicted). bench/results/accuracy_methods.md measures it.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <vector>
 
@@ -33,13 +46,17 @@ namespace descent {
 // The stopping rule of the accuracy target TOL, shared by every method that
 // reads its error from a CheckHistory: the step ends once the estimate is
 // below kTargetShare TOL (after the Chebyshev bound's own count, where
-// there is a bound), or below kConfidentShare TOL on the energies alone.
+// there is a bound; confirmed, where there is none), or below
+// kConfidentShare TOL on the energies alone (with a bound).
 constexpr double kTargetShare = 0.5;
 constexpr double kConfidentShare = 0.1;
 // The wide window of the error estimate, in checks: a stiff body's error
 // oscillates over several checks (an armadillo at kappa 5e5 stopped at 16x
 // its target on one check's small decrease).
 constexpr int kWideWindow = 4;
+// A reading is confirmed when the predicted minimum fell since the previous
+// check by at most this share of the error left.
+constexpr double kSettledShare = 0.5;
 
 // What a history says about the accuracy target (CheckHistory::read).
 struct AccuracyReading {
@@ -52,6 +69,9 @@ struct AccuracyReading {
   bool below = false;
   // Both known and at or below kConfidentShare TOL.
   bool far_below = false;
+  // below at the previous check too, and the predicted minimum settled
+  // (the rule of methods without a bound).
+  bool confirmed = false;
 };
 
 class CheckHistory {
@@ -76,8 +96,49 @@ class CheckHistory {
   // point of the oscillating error); NaN when there are not 2 windows of
   // evenly spaced, decreasing checks after the restart's first window.
   double relative_error(double initial_energy, double phi, int window = 1) const {
+    return relative(initial_energy, energy_.size(), remaining(phi, window, energy_.size()));
+  }
+
+  // The estimates over the last checks and the last wide windows against
+  // the target TOL (> 0).
+  AccuracyReading read(double initial_energy, double phi, double target) const {
+    const std::size_t n = energy_.size();
+    const Window now = window_at(initial_energy, phi, target, n);
+    AccuracyReading reading;
+    reading.estimate = now.estimate;
+    reading.below = now.below;
+    reading.far_below = now.near <= kConfidentShare * target && now.wide <= kConfidentShare * target;
+    if (now.below && n >= 2) {
+      const Window before = window_at(initial_energy, phi, target, n - 1);
+      const double left = energy_[n - 1] - now.minimum;
+      reading.confirmed = before.below && before.minimum - now.minimum <= kSettledShare * left;
+    }
+    return reading;
+  }
+
+ private:
+  // A reading of the first n checks: the near and wide relative errors,
+  // their combined estimate, the predicted minimum eps_k - (the larger
+  // error left) and whether it is below the target.
+  struct Window {
+    double near, wide, estimate, minimum;
+    bool below;
+  };
+  Window window_at(double initial_energy, double phi, double target, std::size_t n) const {
+    const double near_left = remaining(phi, 1, n), wide_left = remaining(phi, kWideWindow, n);
+    Window w;
+    w.near = relative(initial_energy, n, near_left);
+    w.wide = relative(initial_energy, n, wide_left);
+    w.estimate = std::isnan(w.wide) ? w.near : std::max(w.near, w.wide);
+    w.minimum = energy_[n - 1] - (std::isnan(wide_left) ? near_left : std::max(near_left, wide_left));
+    w.below = w.near <= kTargetShare * target && !(w.wide > kTargetShare * target);
+    return w;
+  }
+
+  // eps_k - eps* at the n-th check (the first n recorded), NaN when unknown.
+  double remaining(double phi, int window, std::size_t n) const {
     const double unknown = std::numeric_limits<double>::quiet_NaN();
-    const std::size_t n = energy_.size(), w = static_cast<std::size_t>(window);
+    const std::size_t w = static_cast<std::size_t>(window);
     if (window < 1 || n < 2 * w + 2) return unknown;
     const std::size_t i0 = n - 1 - 2 * w, i1 = n - 1 - w, i2 = n - 1;
     if (k_[i2] - k_[i1] != k_[i1] - k_[i0]) return unknown;
@@ -87,24 +148,14 @@ class CheckHistory {
         phi > 0 ? chebyshev_error_bound(phi, k_[i2]) / chebyshev_error_bound(phi, k_[i1]) : 0.0;
     const double r = std::max(d2 / d1, bound_ratio);  // per window
     if (!(r < 1)) return unknown;
-    const double remaining = d2 * r / (1 - r);
-    const double span = initial_energy - energy_.back() + remaining;
-    return span > 0 ? remaining / span : unknown;
+    return d2 * r / (1 - r);
+  }
+  // The error left at the n-th check relative to the initial one.
+  double relative(double initial_energy, std::size_t n, double left) const {
+    const double span = initial_energy - energy_[n - 1] + left;
+    return span > 0 ? left / span : std::numeric_limits<double>::quiet_NaN();
   }
 
-  // The estimates over the last checks and the last wide windows against
-  // the target TOL (> 0).
-  AccuracyReading read(double initial_energy, double phi, double target) const {
-    const double near = relative_error(initial_energy, phi);
-    const double wide = relative_error(initial_energy, phi, kWideWindow);
-    AccuracyReading reading;
-    reading.estimate = std::isnan(wide) ? near : std::max(near, wide);
-    reading.below = near <= kTargetShare * target && !(wide > kTargetShare * target);
-    reading.far_below = near <= kConfidentShare * target && wide <= kConfidentShare * target;
-    return reading;
-  }
-
- private:
   std::vector<int> k_;
   std::vector<double> energy_;
 };

@@ -129,8 +129,10 @@ typename MethodBase<Real>::Check MethodBase<Real>::check(int k, StepStats& stats
                                : initial_local_energy_};
   if (check_.accept<Real>(problem_.global_energies(local, check_.count()), stats)) {
     q_checked_ = q_;
-    // The accuracy target from the accepted checks' energies: before the
-    // bound's count (a method with one) only when far below the target.
+    // The accuracy target from the accepted checks' energies
+    // (solver/check_history.hpp): with a bound as chebyshev reads it (before
+    // the bound's count only when far below the target), without one on a
+    // confirmed reading.
     if (history_.empty()) history_.restart(stats.initial_energy);
     const int since_restart = k + 1 - restart_at_;
     history_.record(since_restart, check_.checked_energy());
@@ -138,8 +140,12 @@ typename MethodBase<Real>::Check MethodBase<Real>::check(int k, StepStats& stats
     const AccuracyReading reading = history_.read(stats.initial_energy, phi, target);
     stats.error_estimate = reading.estimate;
     if (target > 0) {
-      const int prior = phi > 0 ? chebyshev_iterations_for(phi, kTargetShare * target) : 0;
-      if (reading.far_below || (reading.below && since_restart >= prior)) return Check::converged;
+      const bool met =
+          phi > 0 ? reading.far_below ||
+                        (reading.below &&
+                         since_restart >= chebyshev_iterations_for(phi, kTargetShare * target))
+                  : reading.confirmed;
+      if (met) return Check::converged;
     }
     return Check::accepted;
   }
