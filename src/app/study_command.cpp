@@ -189,12 +189,11 @@ void run_cases(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
     for (std::size_t c = 0; c < options.cases.size(); ++c) {
       // Newton with the truth's keys is the truth's own run (timed once; in
       // double, as the truth is).
-      const bool is_truth = specs[c].method == "newton" &&
-                            specs[c].newton_solver == truth.newton_solver &&
-                            specs[c].newton_tolerance == truth.newton_tolerance &&
-                            specs[c].cg_tolerance == truth.cg_tolerance &&
-                            specs[c].newton_iterations == truth.newton_iterations &&
-                            !(specs[c].accuracy > 0);
+      const bool is_truth =
+          specs[c].method == "newton" && specs[c].newton_solver == truth.newton_solver &&
+          specs[c].newton_tolerance == truth.newton_tolerance &&
+          specs[c].cg_tolerance == truth.cg_tolerance &&
+          specs[c].newton_iterations == truth.newton_iterations && !(specs[c].accuracy > 0);
       if (is_truth) {
         CaseResult r;
         r.label = options.cases[c].label;

@@ -535,8 +535,8 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   // Every method of ours reads its error (docs/methods.md); TAO's stop by
   // TAO's own tests.
   if (solver.accuracy > 0 && (solver.method == "tao_bncg" || solver.method == "tao_blmvm"))
-    throw InputError(detail::concat(doc.where("solver.accuracy"), ": solver.method = ",
-                                    solver.method,
+    throw InputError(detail::concat(doc.where("solver.accuracy"),
+                                    ": solver.method = ", solver.method,
                                     " stops by TAO's own tests (solver.iterations, "
                                     "solver.newton_tolerance), not by solver.accuracy"));
   if (solver.accuracy > 0 && solver.phase_rho.size() > 1)

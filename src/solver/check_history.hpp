@@ -107,7 +107,8 @@ class CheckHistory {
     AccuracyReading reading;
     reading.estimate = now.estimate;
     reading.below = now.below;
-    reading.far_below = now.near <= kConfidentShare * target && now.wide <= kConfidentShare * target;
+    reading.far_below =
+        now.near <= kConfidentShare * target && now.wide <= kConfidentShare * target;
     if (now.below && n >= 2) {
       const Window before = window_at(initial_energy, phi, target, n - 1);
       const double left = energy_[n - 1] - now.minimum;
@@ -130,7 +131,8 @@ class CheckHistory {
     w.near = relative(initial_energy, n, near_left);
     w.wide = relative(initial_energy, n, wide_left);
     w.estimate = std::isnan(w.wide) ? w.near : std::max(w.near, w.wide);
-    w.minimum = energy_[n - 1] - (std::isnan(wide_left) ? near_left : std::max(near_left, wide_left));
+    w.minimum =
+        energy_[n - 1] - (std::isnan(wide_left) ? near_left : std::max(near_left, wide_left));
     w.below = w.near <= kTargetShare * target && !(w.wide > kTargetShare * target);
     return w;
   }

@@ -703,8 +703,8 @@ TEST(Scene, ChebyshevParametersFollowTheKeysSet) {
   for (const char* method :
        {"gd", "jacobi_gd", "nesterov", "ncg", "lbfgs", "newton", "linear_cg", "pd_chebyshev"}) {
     SCOPED_TRACE(method);
-    std::string text = std::string(kBoxScene) + "[solver]\nmethod = \"" + method +
-                       "\"\naccuracy = 0.01\n";
+    std::string text =
+        std::string(kBoxScene) + "[solver]\nmethod = \"" + method + "\"\naccuracy = 0.01\n";
     if (std::string(method) == "linear_cg") text += "[material]\nmodel = \"corotated\"\n";
     if (std::string(method) == "pd_chebyshev") text += "[material]\nmodel = \"arap\"\n";
     const Scene accurate = parse(text);
