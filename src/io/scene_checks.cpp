@@ -532,14 +532,7 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
                  {"auto", "fixed"});
   require(doc, solver.accuracy >= 0 && solver.accuracy < 1, "solver.accuracy",
           "in [0, 1) (0: a fixed iteration count)", solver.accuracy);
-  // Every method of ours reads its error (docs/methods.md); TAO's stop by
-  // TAO's own tests.
-  if (solver.accuracy > 0 && (solver.method == "tao_bncg" || solver.method == "tao_blmvm"))
-    throw InputError(detail::concat(doc.where("solver.accuracy"),
-                                    ": solver.method = ", solver.method,
-                                    " stops by TAO's own tests (solver.iterations, "
-                                    "solver.newton_tolerance), not by solver.accuracy"));
-  if (solver.accuracy > 0 && solver.phase_rho.size() > 1)
+  if (solver.accuracy > 0 && solver.method == "chebyshev" && solver.phase_rho.size() > 1)
     throw InputError(detail::concat(doc.where("solver.accuracy"),
                                     ": solver.accuracy counts iterations by one Chebyshev bound "
                                     "and does not combine with several solver.phase_rho"));
