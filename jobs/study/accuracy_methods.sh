@@ -12,7 +12,8 @@
 #   helix_corotated    linear_cg (corotated elements only)
 # Results in $ACCURACY_RESULTS (default bench/results/accuracy_methods/):
 # per scene study.csv.gz, accuracy.csv (descent study's own summary),
-# progress.log, machine.txt; the table in accuracy_methods.md beside them.
+# progress.log, machine.txt; the table in table.md beside them
+# (bench/results/accuracy_methods.md says what it shows).
 #   jobs/study/accuracy_methods.sh
 source "$(dirname "$0")/common.sh"
 base=${ACCURACY_RESULTS:-bench/results/accuracy_methods}
@@ -49,5 +50,5 @@ for entry in "${scenes[@]}"; do
   "${cmd[@]}" > "$out/progress.log"
   gzip -f "$out/study.csv"
 done
-$PYTHON tools/accuracy_summary.py "$base" > "$base/accuracy_methods.md"
-cat "$base/accuracy_methods.md"
+$PYTHON tools/accuracy_summary.py "$base" > "$base/table.md"
+cat "$base/table.md"

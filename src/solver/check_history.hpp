@@ -100,17 +100,21 @@ class CheckHistory {
   }
 
   // The estimates over the last checks and the last wide windows against
-  // the target TOL (> 0).
-  AccuracyReading read(double initial_energy, double phi, double target) const {
+  // the target TOL (> 0). `noise`: the energy's round-off (a check's
+  // tolerance; 0: not known); two windows running whose changes both lie
+  // within it say the error left is at most that, as far as the energies
+  // can tell (a step already at its minimum, a small body converged in a
+  // few checks), where the ratio of two round-off changes says nothing.
+  AccuracyReading read(double initial_energy, double phi, double target, double noise = 0) const {
     const std::size_t n = energy_.size();
-    const Window now = window_at(initial_energy, phi, target, n);
+    const Window now = window_at(initial_energy, phi, target, noise, n);
     AccuracyReading reading;
     reading.estimate = now.estimate;
     reading.below = now.below;
     reading.far_below =
         now.near <= kConfidentShare * target && now.wide <= kConfidentShare * target;
     if (now.below && n >= 2) {
-      const Window before = window_at(initial_energy, phi, target, n - 1);
+      const Window before = window_at(initial_energy, phi, target, noise, n - 1);
       const double left = energy_[n - 1] - now.minimum;
       reading.confirmed = before.below && before.minimum - now.minimum <= kSettledShare * left;
     }
@@ -125,11 +129,13 @@ class CheckHistory {
     double near, wide, estimate, minimum;
     bool below;
   };
-  Window window_at(double initial_energy, double phi, double target, std::size_t n) const {
-    const double near_left = remaining(phi, 1, n), wide_left = remaining(phi, kWideWindow, n);
+  Window window_at(double initial_energy, double phi, double target, double noise,
+                   std::size_t n) const {
+    const double near_left = remaining(phi, 1, n, noise);
+    const double wide_left = remaining(phi, kWideWindow, n, noise);
     Window w;
-    w.near = relative(initial_energy, n, near_left);
-    w.wide = relative(initial_energy, n, wide_left);
+    w.near = relative(initial_energy, n, near_left, noise);
+    w.wide = relative(initial_energy, n, wide_left, noise);
     w.estimate = std::isnan(w.wide) ? w.near : std::max(w.near, w.wide);
     w.minimum =
         energy_[n - 1] - (std::isnan(wide_left) ? near_left : std::max(near_left, wide_left));
@@ -138,13 +144,14 @@ class CheckHistory {
   }
 
   // eps_k - eps* at the n-th check (the first n recorded), NaN when unknown.
-  double remaining(double phi, int window, std::size_t n) const {
+  double remaining(double phi, int window, std::size_t n, double noise = 0) const {
     const double unknown = std::numeric_limits<double>::quiet_NaN();
     const std::size_t w = static_cast<std::size_t>(window);
     if (window < 1 || n < 2 * w + 2) return unknown;
     const std::size_t i0 = n - 1 - 2 * w, i1 = n - 1 - w, i2 = n - 1;
     if (k_[i2] - k_[i1] != k_[i1] - k_[i0]) return unknown;
     const double d1 = energy_[i0] - energy_[i1], d2 = energy_[i1] - energy_[i2];
+    if (noise > 0 && std::abs(d1) <= noise && std::abs(d2) <= noise) return noise;
     if (!(d1 > 0 && d2 > 0)) return unknown;
     const double bound_ratio =
         phi > 0 ? chebyshev_error_bound(phi, k_[i2]) / chebyshev_error_bound(phi, k_[i1]) : 0.0;
@@ -152,9 +159,13 @@ class CheckHistory {
     if (!(r < 1)) return unknown;
     return d2 * r / (1 - r);
   }
-  // The error left at the n-th check relative to the initial one.
-  double relative(double initial_energy, std::size_t n, double left) const {
-    const double span = initial_energy - energy_[n - 1] + left;
+  // The error left at the n-th check relative to the initial one; 0 where
+  // the energies cannot tell the initial state from the minimum (all the
+  // step's change, and the error left, within the round-off `noise`).
+  double relative(double initial_energy, std::size_t n, double left, double noise = 0) const {
+    const double fallen = initial_energy - energy_[n - 1];
+    if (noise > 0 && left <= noise && std::abs(fallen) <= noise) return 0;
+    const double span = fallen + left;
     return span > 0 ? left / span : std::numeric_limits<double>::quiet_NaN();
   }
 

@@ -195,6 +195,34 @@ TEST(CheckHistory, WithoutABoundOnlyAConfirmedReadingEnds) {
   EXPECT_GT(error(confirmed_at), 0.1 * target) << "nor far below it";
 }
 
+// Energies that stop changing beyond their round-off give no ratio, but
+// say the error left is at most that round-off: a body converged in a few
+// checks, or one whose step starts at its minimum, ends the step instead of
+// running to the cap.
+TEST(CheckHistory, RoundOffChangesEndTheStep) {
+  const double noise = 1e-9, target = 1e-3;
+  CheckHistory h;
+  h.restart(10.0);
+  h.record(8, 4.0);
+  h.record(16, 4.0 - 0.5 * noise);
+  h.record(24, 4.0 + 0.3 * noise);  // a rise within the round-off
+  EXPECT_TRUE(std::isnan(h.relative_error(10.0, 0.0))) << "no ratio of round-off changes";
+  AccuracyReading reading = h.read(10.0, 0.0, target, noise);
+  EXPECT_NEAR(reading.estimate, noise / 6.0, 1e-3 * noise / 6.0);
+  EXPECT_TRUE(reading.below);
+  EXPECT_FALSE(reading.confirmed) << "the previous check had no reading";
+  h.record(32, 4.0);
+  EXPECT_TRUE(h.read(10.0, 0.0, target, noise).confirmed);
+  // Nothing moves at all: the step started at its minimum.
+  CheckHistory rest;
+  rest.restart(2.0);
+  for (int j = 1; j <= 4; ++j) rest.record(8 * j, 2.0 + (j % 2 ? 0.2 : -0.2) * noise);
+  reading = rest.read(2.0, 0.0, target, noise);
+  EXPECT_EQ(reading.estimate, 0.0);
+  EXPECT_TRUE(reading.confirmed);
+  EXPECT_FALSE(rest.read(2.0, 0.0, target).below) << "without the round-off: no reading";
+}
+
 TEST(CheckHistory, NoEstimateWhileTheEnergyDoesNotFall) {
   const double phi = chebyshev_rate(0.5);
   CheckHistory h;

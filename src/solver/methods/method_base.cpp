@@ -137,7 +137,8 @@ typename MethodBase<Real>::Check MethodBase<Real>::check(int k, StepStats& stats
     const int since_restart = k + 1 - restart_at_;
     history_.record(since_restart, check_.checked_energy());
     const double phi = bound_rate(), target = spec_.accuracy;
-    const AccuracyReading reading = history_.read(stats.initial_energy, phi, target);
+    const AccuracyReading reading =
+        history_.read(stats.initial_energy, phi, target, stats.energy_tolerance);
     stats.error_estimate = reading.estimate;
     if (target > 0) {
       const bool met =
