@@ -9,9 +9,15 @@
 #   helix_neo_hookean  chebyshev (its multilevel default), gd, jacobi_gd,
 #                      nesterov, ncg, lbfgs, newton
 #   helix_arap         pd_chebyshev (defined on the arap energy only)
-#   helix_corotated    linear_cg (corotated elements only)
+#   helix_corotated    linear_cg (corotated elements only), and converged
+#                      (linear_cg_tolerance 1e-10, no target): linearly
+#                      implicit Euler's own distance from eps*, the floor
+#                      under any target
+#   helix_corotated_h120  the same at h = 1/120, where that floor is smaller
+# SCENES="a b" runs only those.
 # Results in $ACCURACY_RESULTS (default bench/results/accuracy_methods/):
-# per scene study.csv.gz, accuracy.csv (descent study's own summary),
+# per scene ends.csv (each step's last record), accuracy.csv (descent
+# study's own summary),
 # progress.log, machine.txt; the table in table.md beside them
 # (bench/results/accuracy_methods.md says what it shows).
 #   jobs/study/accuracy_methods.sh
@@ -30,13 +36,18 @@ scenes=(
   "helix_neo_hookean||chebyshev gd jacobi_gd nesterov ncg lbfgs newton"
   "helix_arap|material.model=\"arap\"|pd_chebyshev"
   "helix_corotated|material.model=\"corotated\"|linear_cg"
+  "helix_corotated_h120|material.model=\"corotated\" time.dt=0.008333333333333333|linear_cg"
 )
 
 for entry in "${scenes[@]}"; do
   IFS='|' read -r name keys methods <<<"$entry"
+  if [ -n "${SCENES:-}" ] && [[ " $SCENES " != *" $name "* ]]; then continue; fi
   args=("${helix_small[@]}")
-  [ -n "$keys" ] && args+=(--set "$keys")
+  for key in $keys; do args+=(--set "$key"); done
   cases=()
+  if [ "$methods" = linear_cg ]; then
+    cases+=(--case "linear_cg_converged:method=linear_cg accuracy=0 iterations=$CAP")
+  fi
   for method in $methods; do
     for tol in $TOLS; do
       cases+=(--case "${method}_$tol:method=$method accuracy=$tol iterations=$CAP")
@@ -48,7 +59,13 @@ for entry in "${scenes[@]}"; do
        --frames "$FRAMES" --every 1 --repeats 1 "${cases[@]}" --study-out "$out")
   machine "${cmd[*]}" > "$out/machine.txt"
   "${cmd[@]}" > "$out/progress.log"
-  gzip -f "$out/study.csv"
+  # The last record of each case and frame (the step's result, its e and
+  # iterations); the full traces (tens of MB for gd's 5000 iterations) are
+  # the command's to regenerate.
+  awk -F, 'NR == 1 { print; next }
+           { key = $2 "," $3; if (key != prev && last != "") print last; prev = key; last = $0 }
+           END { print last }' "$out/study.csv" > "$out/ends.csv"
+  rm "$out/study.csv"
 done
 $PYTHON tools/accuracy_summary.py "$base" > "$base/table.md"
 cat "$base/table.md"
