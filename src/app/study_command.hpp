@@ -5,8 +5,11 @@
 // iteration against Newton's eps* from the same state: relative error e_k,
 // wall time (median of `repeats` runs), collectives and time inside them.
 // Written to out_dir: study.csv (every case, iteration and measured frame),
-// pareto.csv (the cheapest case and budget per error level) and a progress
-// line per case on stderr. tools/plot_study.py draws the PNGs.
+// pareto.csv (the cheapest case and budget per error level), accuracy.csv
+// (per case with solver.accuracy: how many steps ended at or below the
+// target, the worst and median e / TOL, whether at least 90% did and all
+// within 3 TOL; also printed at the end) and a progress line per case.
+// tools/plot_study.py draws the PNGs.
 #include <mpi.h>
 
 #include <functional>

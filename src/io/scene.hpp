@@ -185,8 +185,10 @@ struct SolverSpec {
   int iterations = 96;  // per time step (with accuracy: the cap)
   // Target relative error e of each step (the study's metric); 0: run
   // `iterations`. Chebyshev chooses the count from its error bound and the
-  // energy checks. A scene read from TOML that sets neither key runs
-  // Chebyshev to kDefaultAccuracy (resolve_step_accuracy, scene_checks.hpp).
+  // energy checks, the other descent methods from the energy checks, Newton
+  // from its decrement, linear_cg from its residual (docs/methods.md). A
+  // scene read from TOML that sets neither key runs Chebyshev to
+  // kDefaultAccuracy (resolve_step_accuracy, scene_checks.hpp).
   double accuracy = 0;
   // The automatic parameters: Lanczos steps per estimate, steps between
   // estimates (0: only after a rollback), and the margin above the

@@ -532,12 +532,7 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
                  {"auto", "fixed"});
   require(doc, solver.accuracy >= 0 && solver.accuracy < 1, "solver.accuracy",
           "in [0, 1) (0: a fixed iteration count)", solver.accuracy);
-  if (solver.accuracy > 0 && solver.method != "chebyshev")
-    throw InputError(detail::concat(doc.where("solver.accuracy"),
-                                    ": solver.accuracy chooses the iteration count of "
-                                    "solver.method = chebyshev, not of ",
-                                    solver.method));
-  if (solver.accuracy > 0 && solver.phase_rho.size() > 1)
+  if (solver.accuracy > 0 && solver.method == "chebyshev" && solver.phase_rho.size() > 1)
     throw InputError(detail::concat(doc.where("solver.accuracy"),
                                     ": solver.accuracy counts iterations by one Chebyshev bound "
                                     "and does not combine with several solver.phase_rho"));

@@ -37,15 +37,6 @@ constexpr double kStartNoise = 0.05;
 // exact Hessian can be indefinite (a compressed neo-Hookean body), where
 // Lanczos finds lambda_min <= 0 and no Chebyshev interval exists.
 constexpr double kMaxCondition = 1e8;
-// With solver.accuracy the step ends once the estimated error is below
-// kTargetShare of the target with the bound agreeing, or below
-// kConfidentShare of it on the energies alone.
-constexpr double kTargetShare = 0.5;
-constexpr double kConfidentShare = 0.1;
-// The wide window of the error estimate, in checks: a stiff body's error
-// oscillates over several checks (an armadillo at kappa 5e5 stopped at 16x
-// its target on one check's small decrease).
-constexpr int kWideWindow = 4;
 
 // The parameters the step's iterations run with, changed by rollbacks.
 struct Schedule {
@@ -347,15 +338,13 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
         engine_->refresh_contact_pairs();
       history.record(chebyshev_k, check.checked_energy());
       if (schedule.phi > 0) {
-        // Over the last checks, and over the last windows of kWideWindow.
-        const double near = history.relative_error(stats.initial_energy, schedule.phi);
-        const double wide = history.relative_error(stats.initial_energy, schedule.phi, kWideWindow);
-        stats.error_estimate = std::isnan(wide) ? near : std::max(near, wide);
-        // Before the bound's count only when both are far below the target,
-        // after it when what there is says so.
-        const bool below = near <= kTargetShare * target && !(wide > kTargetShare * target);
-        const bool far_below = near <= kConfidentShare * target && wide <= kConfidentShare * target;
-        if (target > 0 && (far_below || (below && chebyshev_k >= prior_iterations))) break;
+        // Over the last checks, and over the last windows of kWideWindow
+        // (solver/check_history.hpp): before the bound's count only when
+        // both are far below the target, after it when what there is says so.
+        const AccuracyReading reading = history.read(stats.initial_energy, schedule.phi, target);
+        stats.error_estimate = reading.estimate;
+        if (target > 0 && (reading.far_below || (reading.below && chebyshev_k >= prior_iterations)))
+          break;
       }
       continue;
     }

@@ -2,7 +2,7 @@
 // docs/tao.md) on the small helix: both lower eps and reach |g| <= 1e-8 |g0|
 // on our gradient; the study sees every TAO iteration and TAO's own
 // collectives; P ranks agree with 1 rank within what the gradient tolerance
-// allows.
+// allows; solver.accuracy ends a step at its target.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -144,6 +144,38 @@ TEST(Tao, DistributedRunsAgreeWithOneRankWithinTheGradientTolerance) {
     EXPECT_TRUE(std::isfinite(bound)) << method;
     EXPECT_GT(moved, 1e-3) << method;
     EXPECT_LE(worst, bound) << method;
+  }
+}
+
+// solver.accuracy (issue 24): TAO's eps at its iterations goes to the
+// energy checks' estimator; from the moving helix each method stops at e <=
+// TOL against Newton's eps*, a looser target sooner.
+TEST(Tao, EachMethodStopsAtItsTarget) {
+  Scene scene = testing::small_helix_scene();
+  const Mesh mesh = build_scene_mesh(scene.mesh);
+  Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+  for (int frame = 0; frame < 3; ++frame) sim.step();
+  SolverSpec truth = scene.solver;
+  truth.method = "newton";
+  const double energy_star = trace_step(MPI_COMM_WORLD, sim, truth).records.back().energy;
+  for (const char* method : kMethods) {
+    int previous = 0;
+    for (double target : {1e-2, 1e-7}) {
+      SolverSpec spec = scene.solver;
+      spec.method = method;
+      spec.accuracy = target;
+      spec.iterations = 2000;
+      const StepTrace trace = trace_step(MPI_COMM_WORLD, sim, spec);
+      const double e = relative_errors(trace, energy_star).back();
+      if (world_rank() == 0)
+        std::printf("[ tao ] %s TOL %.0e: e = %.3e (estimate %.3e) after %d iterations\n", method,
+                    target, e, trace.stats.error_estimate, trace.stats.iterations);
+      EXPECT_LE(e, target) << method << " at " << target;
+      EXPECT_LE(trace.stats.error_estimate, target) << method << " at " << target;
+      EXPECT_LT(trace.stats.iterations, spec.iterations) << method << ": the target, not the cap";
+      EXPECT_GT(trace.stats.iterations, previous) << method << ": the looser target is cheaper";
+      previous = trace.stats.iterations;
+    }
   }
 }
 

@@ -158,6 +158,71 @@ TEST(CheckHistory, NoEstimateFromTheRestartsFirstWindow) {
   EXPECT_NEAR(h.relative_error(error(0), phi), error(3) / error(0), 1e-12);
 }
 
+// Without a bound (phi = 0: gd, nesterov, ncg, lbfgs, linear_cg) the
+// decreases alone give the rate: exact for a geometric decay.
+TEST(CheckHistory, WithoutABoundTheDecreasesGiveTheRate) {
+  const double star = -3.0, r = 0.8;
+  CheckHistory h;
+  h.restart(star + 10);
+  for (int j = 1; j <= 5; ++j) h.record(8 * j, star + 10 * std::pow(r, j));
+  EXPECT_NEAR(h.relative_error(star + 10, 0.0), std::pow(r, 5), 1e-12);
+  const AccuracyReading reading = h.read(star + 10, 0.0, 2 * std::pow(r, 5) / kTargetShare);
+  EXPECT_NEAR(reading.estimate, std::pow(r, 5), 1e-12);
+  EXPECT_TRUE(reading.below);
+  EXPECT_TRUE(reading.confirmed) << "geometric: the predicted minimum does not move";
+}
+
+// A first-order method's fast modes die out over several checks, and the
+// ratio of its decreases rises towards its slowest mode's (here e_j = 0.8 *
+// 0.2^j + 0.2 * 0.9^j): the latest ratio reads the error as below the target
+// at checks 3-5 where it is 1.2-1.5x above; only a confirmed reading, once
+// the predicted minimum has settled, ends the step, and there e <= TOL.
+TEST(CheckHistory, WithoutABoundOnlyAConfirmedReadingEnds) {
+  const double target = 0.1;
+  auto error = [](int j) { return 0.8 * std::pow(0.2, j) + 0.2 * std::pow(0.9, j); };
+  CheckHistory h;
+  h.restart(1.0);
+  int misread = 0, confirmed_at = 0;
+  for (int j = 1; j <= 40 && confirmed_at == 0; ++j) {
+    h.record(8 * j, error(j));
+    const AccuracyReading reading = h.read(1.0, 0.0, target);
+    if (reading.below && error(j) > target) ++misread;
+    if (reading.confirmed) confirmed_at = j;
+  }
+  EXPECT_EQ(misread, 3) << "the unconfirmed rule would stop at e = 0.15";
+  ASSERT_GT(confirmed_at, 0);
+  EXPECT_LE(error(confirmed_at), target);
+  EXPECT_GT(error(confirmed_at), 0.1 * target) << "nor far below it";
+}
+
+// Energies that stop changing beyond their round-off give no ratio, but
+// say the error left is at most that round-off: a body converged in a few
+// checks, or one whose step starts at its minimum, ends the step instead of
+// running to the cap.
+TEST(CheckHistory, RoundOffChangesEndTheStep) {
+  const double noise = 1e-9, target = 1e-3;
+  CheckHistory h;
+  h.restart(10.0);
+  h.record(8, 4.0);
+  h.record(16, 4.0 - 0.5 * noise);
+  h.record(24, 4.0 + 0.3 * noise);  // a rise within the round-off
+  EXPECT_TRUE(std::isnan(h.relative_error(10.0, 0.0))) << "no ratio of round-off changes";
+  AccuracyReading reading = h.read(10.0, 0.0, target, noise);
+  EXPECT_NEAR(reading.estimate, noise / 6.0, 1e-3 * noise / 6.0);
+  EXPECT_TRUE(reading.below);
+  EXPECT_FALSE(reading.confirmed) << "the previous check had no reading";
+  h.record(32, 4.0);
+  EXPECT_TRUE(h.read(10.0, 0.0, target, noise).confirmed);
+  // Nothing moves at all: the step started at its minimum.
+  CheckHistory rest;
+  rest.restart(2.0);
+  for (int j = 1; j <= 4; ++j) rest.record(8 * j, 2.0 + (j % 2 ? 0.2 : -0.2) * noise);
+  reading = rest.read(2.0, 0.0, target, noise);
+  EXPECT_EQ(reading.estimate, 0.0);
+  EXPECT_TRUE(reading.confirmed);
+  EXPECT_FALSE(rest.read(2.0, 0.0, target).below) << "without the round-off: no reading";
+}
+
 TEST(CheckHistory, NoEstimateWhileTheEnergyDoesNotFall) {
   const double phi = chebyshev_rate(0.5);
   CheckHistory h;

@@ -699,9 +699,18 @@ TEST(Scene, ChebyshevParametersFollowTheKeysSet) {
              "scene.toml:4: solver.chebyshev_delay applies to fixed Chebyshev parameters");
   expect_has(error_of(std::string(kBoxScene) + "[solver]\nchebyshev_parameters = \"tuned\"\n"),
              "solver.chebyshev_parameters must be one of \"auto\", \"fixed\"");
-  expect_has(error_of(std::string(kBoxScene) + "[solver]\nmethod = \"ncg\"\naccuracy = 0.01\n"),
-             "scene.toml:5: solver.accuracy chooses the iteration count of solver.method = "
-             "chebyshev, not of ncg");
+  // Every method counts by a target (issue 24).
+  for (const char* method : {"gd", "jacobi_gd", "nesterov", "ncg", "lbfgs", "newton", "linear_cg",
+                             "pd_chebyshev", "tao_bncg", "tao_blmvm"}) {
+    SCOPED_TRACE(method);
+    std::string text =
+        std::string(kBoxScene) + "[solver]\nmethod = \"" + method + "\"\naccuracy = 0.01\n";
+    if (std::string(method) == "linear_cg") text += "[material]\nmodel = \"corotated\"\n";
+    if (std::string(method) == "pd_chebyshev") text += "[material]\nmodel = \"arap\"\n";
+    const Scene accurate = parse(text);
+    EXPECT_EQ(accurate.solver.accuracy, 0.01);
+    EXPECT_EQ(accurate.solver.iterations, 1000) << "the cap of a step with a target";
+  }
   expect_has(error_of(std::string(kBoxScene) +
                       "[solver]\naccuracy = 0.01\nphase_rho = [0.9, 0.99]\nphase_lengths = [8]\n"),
              "solver.accuracy counts iterations by one Chebyshev bound");

@@ -38,7 +38,7 @@ void GradientDescent<Real>::iterate(StepStats& stats) {
     }
     stats.iterations = k + 1;
     this->report(k + 1);
-    if (this->check(k, stats) == MethodBase<Real>::Check::stalled) break;
+    if (MethodBase<Real>::ends_step(this->check(k, stats))) break;
   }
 }
 

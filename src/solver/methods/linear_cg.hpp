@@ -15,9 +15,11 @@
 // solver.linear_cg_preconditioner) from the initial guess 0, v_t or
 // v_t + h M^-1 (f_el + f_ext) (solver.linear_cg_guess), for at most
 // solver.iterations iterations or until r.r <= linear_cg_tolerance b.b
-// (paper 2's criterion). Held dofs move as prescribed: v there is their
-// motion over the step, and their rows are out of the system. One CG
-// iteration is one observed iteration.
+// (paper 2's criterion), or with solver.accuracy = TOL until the relative
+// A-norm error of the solve, estimated from the residual's dots, is below
+// TOL (linear_cg.cpp says what that measures). Held dofs move as
+// prescribed: v there is their motion over the step, and their rows are out
+// of the system. One CG iteration is one observed iteration.
 //
 // Collectives per step (each one MPI_Allreduce): 1 ([r.z, r.r, b.b] at the
 // start) + 2 per CG iteration (p.Ap; [r.z, r.r] fused) + 1 energy reduction

@@ -5,6 +5,7 @@
 
 #include "kernels/vertex.hpp"
 #include "solver/preconditioners/make_preconditioner.hpp"
+#include "solver/spectrum.hpp"
 #include "solver/step_control.hpp"
 
 namespace descent {
@@ -43,6 +44,9 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
     q_checked_ = q_;
     report(0);
   }
+  history_ = CheckHistory();
+  restart_at_ = 0;
+  stats.error_estimate = std::numeric_limits<double>::quiet_NaN();
   step_velocity_ = state.v.data();
   iterate(stats);
   step_velocity_ = nullptr;
@@ -125,9 +129,30 @@ typename MethodBase<Real>::Check MethodBase<Real>::check(int k, StepStats& stats
                                : initial_local_energy_};
   if (check_.accept<Real>(problem_.global_energies(local, check_.count()), stats)) {
     q_checked_ = q_;
+    // The accuracy target from the accepted checks' energies
+    // (solver/check_history.hpp): with a bound as chebyshev reads it (before
+    // the bound's count only when far below the target), without one on a
+    // confirmed reading.
+    if (history_.empty()) history_.restart(stats.initial_energy);
+    const int since_restart = k + 1 - restart_at_;
+    history_.record(since_restart, check_.checked_energy());
+    const double phi = bound_rate(), target = spec_.accuracy;
+    const AccuracyReading reading =
+        history_.read(stats.initial_energy, phi, target, stats.energy_tolerance);
+    stats.error_estimate = reading.estimate;
+    if (target > 0) {
+      const bool met =
+          phi > 0 ? reading.far_below ||
+                        (reading.below &&
+                         since_restart >= chebyshev_iterations_for(phi, kTargetShare * target))
+                  : reading.confirmed;
+      if (met) return Check::converged;
+    }
     return Check::accepted;
   }
   q_ = q_checked_;
+  history_.restart(check_.checked_energy());
+  restart_at_ = k + 1;
   if (preconditioner_) {
     preconditioner_->refresh(q_.data());
     steps_since_refresh_ = 1;

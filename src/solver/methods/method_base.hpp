@@ -4,7 +4,10 @@
 // gradient of eps with the Jacobi diagonal, owned-dof inner products, and the
 // paper's step-length control by the energy every check_interval iterations
 // (§4.2, c = 0: roll back to the checked state and alpha <- gamma alpha when
-// the energy rose; stop once alpha < alpha_min).
+// the energy rose; stop once alpha < alpha_min). With solver.accuracy the
+// same checks end the step where the energies say the relative error is
+// below the target (solver/check_history.hpp: Chebyshev's estimator, read
+// without a bound unless the method has one), within solver.iterations.
 //
 // Layout: every vector holds 3 reals per local vertex, xyz-interleaved, in
 // LocalMesh order. Inner products sum owned vertices [0, num_owned) only, so
@@ -15,6 +18,7 @@
 #include <vector>
 
 #include "io/scene.hpp"
+#include "solver/check_history.hpp"
 #include "solver/local_problem.hpp"
 #include "solver/preconditioners/preconditioner.hpp"
 #include "solver/step_control.hpp"
@@ -63,8 +67,19 @@ class MethodBase : public Stepper<Real> {
   std::size_t size() const { return q_.size(); }
 
   // The energy check after iteration k (0-based).
-  enum class Check { none, accepted, rolled_back, stalled };
+  enum class Check {
+    none,         // no check after this iteration
+    accepted,     // the trial is the new checked state
+    rolled_back,  // back to the checked state, alpha shortened
+    stalled,      // alpha fell below alpha_min: the step ends
+    converged,    // accepted, and the accuracy target is met: the step ends
+  };
   Check check(int k, StepStats& stats);
+  static bool ends_step(Check c) { return c == Check::stalled || c == Check::converged; }
+  // The Chebyshev rate phi (solver/spectrum.hpp) that bounds the method's
+  // error after k iterations since a (re)start, for the accuracy target's
+  // estimate; 0 (the default) where no such bound holds.
+  virtual double bound_rate() const { return 0; }
 
   LocalProblem<Real>& problem_;
   SolverSpec spec_;
@@ -81,6 +96,10 @@ class MethodBase : public Stepper<Real> {
   // Step-control state of the current step.
   EnergyCheck check_{false, 0.0};
   Energy initial_local_energy_{};
+  // The accepted checks' energies since the step's start or the last
+  // rollback (after iteration restart_at_), for the accuracy target.
+  CheckHistory history_;
+  int restart_at_ = 0;
 };
 
 }  // namespace descent

@@ -40,7 +40,7 @@ void Nesterov<Real>::iterate(StepStats& stats) {
     stats.iterations = k + 1;
     this->report(k + 1);
     const auto outcome = this->check(k, stats);
-    if (outcome == MethodBase<Real>::Check::stalled) break;
+    if (MethodBase<Real>::ends_step(outcome)) break;
     if (outcome == MethodBase<Real>::Check::rolled_back) {
       q_prev_ = this->q_;
       momentum_k = 0;

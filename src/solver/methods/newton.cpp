@@ -1,5 +1,6 @@
 #include "solver/methods/newton.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -101,6 +102,25 @@ void Newton<Real>::iterate(StepStats& stats) {
       ++projected_solves_;
     }
 
+    // The accuracy target from Newton's decrement lambda^2 = -g.dq (g^T H^-1
+    // g for the system solved): the quadratic model at q_k puts its minimum
+    // lambda^2 / 2 below eps(q_k), so eps(q_k) - eps* ~ lambda^2 / 2 and
+    //   e_k ~ (lambda^2 / 2) / (eps_0 - eps_k + lambda^2 / 2);
+    // e_k <= TOL is the decrement's tolerance
+    //   lambda^2 / 2 <= TOL / (1 - TOL) (eps_0 - eps_k),
+    // the decrease made so far setting its scale. At k = 0 nothing has been
+    // decreased (e_0 = 1). The step along dq, already solved for, is still
+    // taken (one more energy evaluation): its line search only lowers eps,
+    // so the result's e is at most the estimate's. No descent direction
+    // (round-off): no estimate.
+    const double half_decrement = std::max(0.0, -0.5 * slope);
+    const double decreased = k > 0 ? stats.initial_energy - energy : 0.0;
+    const double estimate = half_decrement > 0
+                                ? half_decrement / (std::max(0.0, decreased) + half_decrement)
+                                : std::numeric_limits<double>::quiet_NaN();
+    stats.error_estimate = estimate;
+    const bool target_met = this->spec_.accuracy > 0 && estimate <= this->spec_.accuracy;
+
     // Armijo backtracking; eps(q) rides with the first trial.
     double t = 1;
     bool accepted = false;
@@ -134,6 +154,7 @@ void Newton<Real>::iterate(StepStats& stats) {
     this->q_ = trial_;
     stats.iterations = k + 1;
     this->report(k + 1);
+    if (target_met) break;
   }
   if (!std::isnan(energy)) stats.energy = energy;
 }

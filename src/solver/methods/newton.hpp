@@ -5,7 +5,10 @@
 // by Jacobi-preconditioned CG, distributed and without a global matrix, to
 // |r| <= cg_tolerance |g|, then a backtracking (Armijo, c = 1e-4, t halved)
 // line search on the energy; stop at |g| <= newton_tolerance |g(q0)| or
-// after newton_iterations. One Newton iteration is one observed iteration.
+// after newton_iterations, or with solver.accuracy = TOL after the
+// iteration whose decrement says e <= TOL at its start (newton.cpp states
+// the relation; newton_iterations stays the cap). One Newton iteration is
+// one observed iteration.
 // Collectives per Newton iteration: 1 (|g|^2), per linear solve 1 + 2 per CG
 // iteration ([r.z, r.r] fused, p.Ap) and 1 (g.dq) (a second solve when the
 // exact one falls back), and one energy reduction per line-search trial (the

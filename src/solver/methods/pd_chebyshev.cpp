@@ -5,6 +5,7 @@
 #include "common/error.hpp"
 #include "kernels/projective_dynamics.hpp"
 #include "kernels/vertex.hpp"
+#include "solver/spectrum.hpp"
 #include "solver/step_control.hpp"
 
 namespace descent {
@@ -59,12 +60,18 @@ void PdChebyshev<Real>::iterate(StepStats& stats) {
     stats.iterations = k + 1;
     this->report(k + 1);
     const auto outcome = this->check(k, stats);
-    if (outcome == MethodBase<Real>::Check::stalled) break;
+    if (MethodBase<Real>::ends_step(outcome)) break;
     if (outcome == MethodBase<Real>::Check::rolled_back) {
       q_prev_ = this->q_;
       chebyshev_k = 0;
     }
   }
+}
+
+template <class Real>
+double PdChebyshev<Real>::bound_rate() const {
+  const double rho = this->spec_.rho;
+  return rho > 0 && rho < 1 ? chebyshev_rate(rho) : 0.0;
 }
 
 template class PdChebyshev<double>;

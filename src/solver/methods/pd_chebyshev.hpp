@@ -8,7 +8,9 @@
 // accelerated by the same Chebyshev recurrence (solver.rho, chebyshev_delay)
 // and under the same step control as the other methods. The only difference
 // from `chebyshev` is the preconditioner: diag(A), constant, instead of the
-// Hessian diagonal every M iterations. No inner product.
+// Hessian diagonal every M iterations. No inner product. With
+// solver.accuracy the energy checks' estimate is read with the bound of
+// solver.rho, as chebyshev's fixed parameters read theirs.
 #include "solver/methods/method_base.hpp"
 
 namespace descent {
@@ -20,6 +22,7 @@ class PdChebyshev final : public MethodBase<Real> {
 
  private:
   void iterate(StepStats& stats) override;
+  double bound_rate() const override;
   std::vector<Real> g_, d_, q_prev_;
 };
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "solver/check_history.hpp"
 #include "solver/petsc/petsc_session.hpp"
 
 #ifdef DESCENT_HAVE_PETSC
@@ -25,6 +26,11 @@ struct TaoMethod<Real>::Petsc {
   // An exception thrown inside a TAO callback, rethrown after TaoSolve.
   std::exception_ptr error;
   TaoMethod<Real>* method = nullptr;
+  // solver.accuracy: TAO's eps every check_interval iterations, read as the
+  // other descent methods read their energy checks (no bound).
+  CheckHistory history;
+  double target = 0, initial = 0, estimate = 0;
+  int interval = 1;
 };
 
 namespace {
@@ -73,6 +79,29 @@ struct Callbacks {
     }
     if (VecRestoreArrayRead(x, &xs)) return PETSC_ERR_LIB;
     return code;
+  }
+
+  // TAO's own tests, then the accuracy target: TAO's eps at its iterations
+  // (known on every rank, no collective) into the energy checks' estimator.
+  static PetscErrorCode converged(Tao tao, void* context) {
+    auto* petsc = static_cast<typename TaoMethod<Real>::Petsc*>(context);
+    if (TaoDefaultConvergenceTest(tao, nullptr)) return PETSC_ERR_LIB;
+    PetscInt k = 0;
+    PetscReal f = 0, gnorm = 0, cnorm = 0, xdiff = 0;
+    TaoConvergedReason reason{};
+    if (TaoGetSolutionStatus(tao, &k, &f, &gnorm, &cnorm, &xdiff, &reason)) return PETSC_ERR_LIB;
+    if (reason != TAO_CONTINUE_ITERATING) return 0;
+    if (k == 0) {
+      petsc->initial = f;
+      petsc->history.restart(f);
+      return 0;
+    }
+    if (k % petsc->interval != 0) return 0;
+    petsc->history.record(static_cast<int>(k), f);
+    const AccuracyReading reading = petsc->history.read(petsc->initial, 0.0, petsc->target);
+    petsc->estimate = reading.estimate;
+    if (reading.confirmed && TaoSetConvergedReason(tao, TAO_CONVERGED_USER)) return PETSC_ERR_LIB;
+    return 0;
   }
 };
 
@@ -196,6 +225,12 @@ void TaoMethod<Real>::iterate(StepStats& stats) {
   check(TaoSetObjectiveAndGradient(p.tao, nullptr, Callbacks<Real>::objective_and_gradient, &p),
         "TaoSetObjectiveAndGradient");
   check(TaoSetMonitor(p.tao, Callbacks<Real>::monitor, &p, nullptr), "TaoSetMonitor");
+  p.target = this->spec_.accuracy;
+  p.interval = this->spec_.check_interval;
+  p.estimate = std::numeric_limits<double>::quiet_NaN();
+  p.history = CheckHistory();
+  if (p.target > 0)
+    check(TaoSetConvergenceTest(p.tao, Callbacks<Real>::converged, &p), "TaoSetConvergenceTest");
   check(TaoSetMaximumIterations(p.tao, this->spec_.iterations), "TaoSetMaximumIterations");
   check(TaoSetMaximumFunctionEvaluations(p.tao, 1000000000), "TaoSetMaximumFunctionEvaluations");
   check(TaoSetTolerances(p.tao, 0.0, 0.0, this->spec_.newton_tolerance), "TaoSetTolerances");
@@ -223,6 +258,7 @@ void TaoMethod<Real>::iterate(StepStats& stats) {
   check(VecRestoreArrayRead(solution, &final_x), "VecRestoreArrayRead");
   stats.iterations = static_cast<int>(iterations);
   stats.energy = f;
+  stats.error_estimate = p.estimate;
   // TAO keeps its best point; it is finite unless even the initial guess was not.
   stats.finite = std::isfinite(f);
 }

@@ -35,7 +35,10 @@
 // |g| <= solver.newton_tolerance |g0| (Newton's relative gradient criterion,
 // here on the scaled gradient;
 // TAO's default absolute and f-relative ones are switched off so the study
-// sees every iteration). TAO also stops where its line search fails.
+// sees every iteration). TAO also stops where its line search fails. With
+// solver.accuracy TAO's eps every check_interval iterations goes to the
+// energy checks' estimator (solver/check_history.hpp, no bound), which ends
+// the solve on a confirmed reading (TAO_CONVERGED_USER).
 // solver.petsc_options (-tao_bncg_type fr, -tao_ls_type armijo, ...) apply
 // after these settings (TaoSetFromOptions).
 //
