@@ -341,7 +341,10 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
         // Over the last checks, and over the last windows of kWideWindow
         // (solver/check_history.hpp): before the bound's count only when
         // both are far below the target, after it when what there is says so.
-        const AccuracyReading reading = history.read(stats.initial_energy, schedule.phi, target);
+        // With the energy's round-off: a step already at its minimum (a body
+        // at rest) ran to the iteration cap, its changes all noise.
+        const AccuracyReading reading =
+            history.read(stats.initial_energy, schedule.phi, target, stats.energy_tolerance);
         stats.error_estimate = reading.estimate;
         if (target > 0 && (reading.far_below || (reading.below && chebyshev_k >= prior_iterations)))
           break;
