@@ -45,7 +45,7 @@ fi
   echo "tree: $(git -C "$root" rev-parse --short HEAD) (+ working tree)"
   echo "runs $runs, frames $frames, OMP_NUM_THREADS=1; load before: $(cut -d' ' -f1-3 /proc/loadavg)"
   if [[ -n ${BASELINE:-} ]]; then
-    echo "baseline: $BASELINE/src/app/descent ($(git -C "$BASELINE/.." rev-parse --short HEAD 2>/dev/null || echo '?'))"
+    echo "baseline: a build of $(git -C "$BASELINE/.." rev-parse --short HEAD 2>/dev/null || echo '?') (BASELINE=<its build directory>)"
   fi
   echo "command: mpiexec -n RANKS ${bin#"$root"/} run jobs/contact/SCENE.toml --set time.frames=$frames"
 } | tee -a "$log"
