@@ -32,8 +32,10 @@ DistributedMesh set_up_mesh(MPI_Comm comm, const Scene& scene, const MeshSetupOp
     PartitionPiece piece =
         agree(comm, [&] { return read_partition_piece(comm, options.partition_file); });
     read_seconds = seconds_since(start);
-    mesh = agree(comm,
-                 [&] { return distribute_piece(comm, std::move(piece), options.partition_file); });
+    mesh = agree(comm, [&] {
+      return distribute_piece(comm, std::move(piece), options.partition_file,
+                              scene.partition.reorder);
+    });
   } else {
     MeshReadReport report;
     MeshSlice slice = agree(comm, [&] { return build_scene_mesh_slice(comm, scene, &report); });
@@ -62,14 +64,15 @@ DistributedMesh set_up_mesh(MPI_Comm comm, const Scene& scene, const MeshSetupOp
     if (options.partition_file.empty())
       inform(
           "mesh set-up %.2f s on rank 0: slices %.2f s, dual graph %.2f s, partition %.2f s, "
-          "tets moved %.2f s, vertices %.2f s, local mesh %.2f s",
+          "tets moved %.2f s, vertices %.2f s, local mesh %.2f s, local order (%s) %.2f s",
           read_seconds + partition_seconds, read_seconds, s.dual_graph, s.partition, s.migration,
-          s.vertices, s.local_mesh);
+          s.vertices, s.local_mesh, scene.partition.reorder.c_str(), s.local_order);
     else
       inform(
           "mesh set-up %.2f s on rank 0, partitioned beforehand: piece read %.2f s, vertices "
-          "%.2f s, local mesh %.2f s",
-          read_seconds + partition_seconds, read_seconds, s.vertices, s.local_mesh);
+          "%.2f s, local mesh %.2f s, local order (%s) %.2f s",
+          read_seconds + partition_seconds, read_seconds, s.vertices, s.local_mesh,
+          scene.partition.reorder.c_str(), s.local_order);
   }
   return mesh;
 }

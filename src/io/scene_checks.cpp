@@ -567,6 +567,7 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
   require_one_of(doc, "partition.method", scene.partition.method, {"auto", "metis", "ptscotch"});
   require(doc, scene.partition.tries >= 1 && scene.partition.tries <= 100, "partition.tries",
           "in [1, 100]", scene.partition.tries);
+  require_one_of(doc, "partition.reorder", scene.partition.reorder, {"rcm", "none"});
 
   if (scene.output.dir.empty()) {
     throw InputError(detail::concat(doc.where("output.dir"), ": output.dir must not be empty"));

@@ -113,6 +113,7 @@ void visit_scene_keys(SceneFields& fields, Visit&& visit) {
 
   visit("partition.method", scene.partition.method);
   visit("partition.tries", scene.partition.tries);
+  visit("partition.reorder", scene.partition.reorder);
 
   visit("output.dir", scene.output.dir);
   visit("output.every", scene.output.every);

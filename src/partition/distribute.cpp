@@ -9,6 +9,7 @@
 #include "comm/mpi_check.hpp"
 #include "common/block_range.hpp"
 #include "common/error.hpp"
+#include "partition/local_order.hpp"
 #include "partition/radix_sort.hpp"
 
 namespace descent {
@@ -222,7 +223,8 @@ std::vector<PartVertices> gather_part_vertices(MPI_Comm comm, std::span<const Pa
 
 void assemble_local_mesh(MPI_Comm comm, const PartTets& tets, global_index_t num_vertices,
                          global_index_t num_tets, global_index_t first_vertex,
-                         std::span<const double> block_positions, DistributedMesh& mesh) {
+                         std::span<const double> block_positions, const std::string& reorder,
+                         DistributedMesh& mesh) {
   Stopwatch clock;
   const std::vector<PartVertices> vertices = gather_part_vertices(
       comm, std::span(&tets, 1), num_vertices, first_vertex, block_positions, &mesh.unused);
@@ -237,6 +239,8 @@ void assemble_local_mesh(MPI_Comm comm, const PartTets& tets, global_index_t num
   }
   throw_if_any_failed(comm, error);
   mesh.seconds.local_mesh = clock.lap();
+  reorder_local_mesh(mesh.local, reorder);
+  mesh.seconds.local_order = clock.lap();
   global_index_t counts[2] = {reoriented, static_cast<global_index_t>(mesh.unused.ids.size())};
   DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, comm));
   mesh.reoriented_tets = counts[0];
@@ -262,7 +266,7 @@ DistributedMesh distribute_mesh(MPI_Comm comm, MeshSlice slice, const PartitionS
   slice.tets = {};
   mesh.seconds.migration = clock.lap();
   assemble_local_mesh(comm, tets.front(), num_vertices, num_tets, slice.first_vertex,
-                      slice.positions, mesh);
+                      slice.positions, spec.reorder, mesh);
   slice.positions = {};
   tets = {};
   mesh.local.body_vertex_offsets = std::move(slice.body_vertex_offsets);

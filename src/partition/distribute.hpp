@@ -83,7 +83,8 @@ LocalMesh build_local_mesh(const PartTets& tets, const PartVertices& vertices, i
 // Wall seconds of each set-up phase on this rank, for the log and the
 // benchmarks.
 struct SetupSeconds {
-  double dual_graph = 0, partition = 0, migration = 0, vertices = 0, local_mesh = 0;
+  double dual_graph = 0, partition = 0, migration = 0, vertices = 0, local_mesh = 0,
+         local_order = 0;
 };
 
 // Everything a rank of a run needs of the mesh.
@@ -101,11 +102,13 @@ struct DistributedMesh {
 // Collective, one part per rank: the part's vertices asked from the ranks
 // holding the vertex blocks (this rank's is `block_positions`, from
 // `first_vertex`), its LocalMesh built and validated (an InputError on any
-// rank ends every rank), and the counts of re-oriented tets and unused
-// vertices summed; fills those members of `mesh`.
+// rank ends every rank) and renumbered as `reorder` (PartitionSpec::reorder)
+// says, and the counts of re-oriented tets and unused vertices summed; fills
+// those members of `mesh`.
 void assemble_local_mesh(MPI_Comm comm, const PartTets& tets, global_index_t num_vertices,
                          global_index_t num_tets, global_index_t first_vertex,
-                         std::span<const double> block_positions, DistributedMesh& mesh);
+                         std::span<const double> block_positions, const std::string& reorder,
+                         DistributedMesh& mesh);
 
 // Collective: the whole set-up from slices, one part per rank of comm,
 // partitioned as `spec` says (choose_partition_method, partition_dual_graph).

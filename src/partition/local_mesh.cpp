@@ -18,6 +18,17 @@ std::uint8_t swap_faces_2_and_3(std::uint8_t faces) {
 
 }  // namespace
 
+void build_vertex_corners(LocalMesh& mesh) {
+  const index_t nv = mesh.num_vertices();
+  mesh.corner_offsets.assign(static_cast<std::size_t>(nv) + 1, 0);
+  for (index_t v : mesh.tets) ++mesh.corner_offsets[v + 1];
+  for (index_t v = 0; v < nv; ++v) mesh.corner_offsets[v + 1] += mesh.corner_offsets[v];
+  mesh.vertex_corners.resize(mesh.tets.size());
+  std::vector<index_t> fill(mesh.corner_offsets.begin(), mesh.corner_offsets.end() - 1);
+  for (index_t c = 0; c < static_cast<index_t>(mesh.tets.size()); ++c)
+    mesh.vertex_corners[fill[mesh.tets[c]]++] = c;
+}
+
 LocalMesh build_local_mesh(const PartTets& tets, const PartVertices& vertices, int num_parts,
                            global_index_t num_global_vertices, global_index_t num_global_tets,
                            const std::string& source, index_t* reoriented) {
@@ -115,14 +126,7 @@ LocalMesh build_local_mesh(const PartTets& tets, const PartVertices& vertices, i
   }
   if (reoriented) *reoriented = flipped;
 
-  // Vertex -> corner table.
-  local.corner_offsets.assign(static_cast<std::size_t>(nv) + 1, 0);
-  for (index_t v : local.tets) ++local.corner_offsets[v + 1];
-  for (index_t v = 0; v < nv; ++v) local.corner_offsets[v + 1] += local.corner_offsets[v];
-  local.vertex_corners.resize(local.tets.size());
-  std::vector<index_t> fill(local.corner_offsets.begin(), local.corner_offsets.end() - 1);
-  for (index_t c = 0; c < static_cast<index_t>(local.tets.size()); ++c)
-    local.vertex_corners[fill[local.tets[c]]++] = c;
+  build_vertex_corners(local);
   return local;
 }
 

@@ -5,10 +5,12 @@
 // shared means used by tets of more than one rank and the owner of a vertex
 // is the lowest rank that uses it. So owned vertices are [0, num_owned) and
 // shared vertices are [num_interior, num_vertices). Within each group,
-// ascending global id.
+// ascending global id as built; partition.reorder may renumber each group
+// within itself for locality (partition/local_order.hpp).
 // Local tet order: boundary tets (touching a shared vertex) first, then
-// interior tets, each group by ascending global id, so the boundary can be
-// computed first and its exchange overlapped with the interior.
+// interior tets, so the boundary can be computed first and its exchange
+// overlapped with the interior; each group by ascending global id as built,
+// or by lowest local corner once reordered.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -56,6 +58,9 @@ struct LocalMesh {
     return body_vertex_offsets.empty() ? 1 : static_cast<int>(body_vertex_offsets.size()) - 1;
   }
 };
+
+// Fills mesh.corner_offsets and mesh.vertex_corners from mesh.tets.
+void build_vertex_corners(LocalMesh& mesh);
 
 // The body of global vertex `id` of a mesh with these body offsets
 // (LocalMesh::body_vertex_offsets; 0 when empty).

@@ -155,14 +155,15 @@ void write_partition_file(MPI_Comm comm, const std::string& path, const MeshSlic
   throw_if_rank0_failed(comm, error, detail::concat("cannot rename ", temporary, " to ", path));
 }
 
-DistributedMesh distribute_piece(MPI_Comm comm, PartitionPiece piece, const std::string& source) {
+DistributedMesh distribute_piece(MPI_Comm comm, PartitionPiece piece, const std::string& source,
+                                 const std::string& reorder) {
   DistributedMesh mesh;
   mesh.source = source;
   mesh.method = piece.method == "metis" ? PartitionMethod::metis : PartitionMethod::ptscotch;
   // read_partition_piece has checked every id.
   const global_index_t num_vertices = piece.num_global_vertices;
   assemble_local_mesh(comm, piece.tets, num_vertices, piece.num_global_tets, piece.first_vertex,
-                      piece.block_positions, mesh);
+                      piece.block_positions, reorder, mesh);
   mesh.quality = std::move(piece.quality);
   return mesh;
 }

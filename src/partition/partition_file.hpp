@@ -51,7 +51,9 @@ struct PartitionPiece {
 PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path);
 
 // Collective: the run's DistributedMesh from its piece (vertices asked from
-// the ranks holding their blocks, the local mesh built and validated).
-DistributedMesh distribute_piece(MPI_Comm comm, PartitionPiece piece, const std::string& source);
+// the ranks holding their blocks, the local mesh built, validated and
+// renumbered as `reorder` says: PartitionSpec::reorder).
+DistributedMesh distribute_piece(MPI_Comm comm, PartitionPiece piece, const std::string& source,
+                                 const std::string& reorder);
 
 }  // namespace descent

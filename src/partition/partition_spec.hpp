@@ -1,6 +1,7 @@
 #pragma once
-// How the mesh is split across ranks: scene keys partition.method and
-// partition.tries (src/partition/graph_partition.hpp says what they do).
+// How the mesh is split across ranks and numbered on each: scene keys
+// partition.method, partition.tries (src/partition/graph_partition.hpp says
+// what they do) and partition.reorder (src/partition/local_order.hpp).
 #include <string>
 
 namespace descent {
@@ -13,6 +14,10 @@ struct PartitionSpec {
   // fewest faces between parts: a single partition's cut varies by 10-40%
   // from seed to seed (bench/results/partition_quality).
   int tries = 3;
+  // Each rank's local numbering: "rcm" (reverse Cuthill-McKee within each
+  // vertex class, tets by their lowest vertex; partition/local_order.hpp) or
+  // "none" (ascending global id, the input's order).
+  std::string reorder = "rcm";
 };
 
 }  // namespace descent

@@ -261,8 +261,9 @@ void read_h5_everywhere(const std::string& path, Counts& mesh, Counts& partition
     check_piece_promises(piece);
   });
   // A piece that reads must also build a mesh, or refuse on every rank.
-  const bool built =
-      read && every_rank_accepts([&] { distribute_piece(MPI_COMM_WORLD, std::move(piece), path); });
+  const bool built = read && every_rank_accepts([&] {
+                       distribute_piece(MPI_COMM_WORLD, std::move(piece), path, "rcm");
+                     });
   ++(built ? partition.accepted : partition.refused);
 }
 

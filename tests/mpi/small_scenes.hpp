@@ -1,6 +1,7 @@
 #pragma once
 // Small scenes built in code for the MPI tests (no files needed).
 #include <algorithm>
+#include <array>
 #include <vector>
 
 #include "common/mesh.hpp"
@@ -39,6 +40,30 @@ inline Scene fixed_chebyshev(Scene scene) {
   scene.solver.rho = 0.96;
   scene.solver.chebyshev_delay = 10;
   scene.solver.alpha_max = 1.0;
+  return scene;
+}
+
+// A box body of 3 x 3 x 3 cells, 0.2 m on a side, moved to `translate` and
+// thrown along x at vx.
+inline Body box(std::array<double, 3> translate, double vx) {
+  Body body;
+  body.mesh.generator = "box";
+  body.mesh.box.cells = {3, 3, 3};
+  body.mesh.box.size = {0.2, 0.2, 0.2};
+  body.translate = translate;
+  body.velocity = {vx, 0, 0};
+  return body;
+}
+
+// Two boxes 0.3 apart along x, offset across so edges and faces meet off
+// centre, closing at 2 vx; no gravity.
+inline Scene head_on(double vx) {
+  Scene scene;
+  scene.bodies = {box({-0.25, 0, 0}, vx), box({0.25, 0.03, 0.02}, -vx)};
+  scene.gravity = {0, 0, 0};
+  scene.material.young = 1e5;
+  scene.time.dt = 0.01;
+  scene.solver.iterations = 300;
   return scene;
 }
 

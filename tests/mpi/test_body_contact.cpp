@@ -18,33 +18,14 @@
 #include "common/error.hpp"
 #include "contact/body_overlap.hpp"
 #include "gather_positions.hpp"
+#include "small_scenes.hpp"
 
 namespace descent {
 namespace {
 
+using testing::box;
+using testing::head_on;
 using testing::measured;
-
-Body box(std::array<double, 3> translate, double vx) {
-  Body body;
-  body.mesh.generator = "box";
-  body.mesh.box.cells = {3, 3, 3};
-  body.mesh.box.size = {0.2, 0.2, 0.2};
-  body.translate = translate;
-  body.velocity = {vx, 0, 0};
-  return body;
-}
-
-// Two boxes 0.3 apart along x, offset across so edges and faces meet off
-// centre, closing at 2 vx; no gravity.
-Scene head_on(double vx) {
-  Scene scene;
-  scene.bodies = {box({-0.25, 0, 0}, vx), box({0.25, 0.03, 0.02}, -vx)};
-  scene.gravity = {0, 0, 0};
-  scene.material.young = 1e5;
-  scene.time.dt = 0.01;
-  scene.solver.iterations = 300;
-  return scene;
-}
 
 TEST(BodyContact, HeadOnImpactConservesMomentumAndBouncesApart) {
   const Scene scene = head_on(2.0);
