@@ -18,6 +18,7 @@
 
 #include "kernels/corotated.hpp"
 #include "kernels/element.hpp"
+#include "kernels/real_math.hpp"
 #include "kernels/tet.hpp"
 
 namespace descent {
@@ -57,7 +58,7 @@ DESCENT_HOST_DEVICE inline Mat3<Real> polar_rotation(const Mat3<Real>& f, int ma
       // zeroes it and leaves the 2x2 trace r >= 0.
       const Real a = s.m[3 * i + i] + s.m[3 * j + j];
       const Real b = s.m[3 * j + i] - s.m[3 * i + j];
-      const Real r = std::sqrt(a * a + b * b);
+      const Real r = sqrt(a * a + b * b);
       if (r == Real(0)) continue;
       const Real c = a / r, sn = b / r;
       for (int col = 0; col < 3; ++col) {  // rows i, j of S: S <- G^T S

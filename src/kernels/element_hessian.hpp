@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "kernels/element.hpp"
+#include "kernels/real_math.hpp"
 #include "kernels/svd3.hpp"
 
 namespace descent {
@@ -65,7 +66,7 @@ DESCENT_HOST_DEVICE inline bool positive_definite(const Real* m, int n, Real shi
     Real s = m[n * j + j] + shift;
     for (int k = 0; k < j; ++k) s -= l[n * j + k] * l[n * j + k];
     if (!(s > Real(0))) return false;
-    const Real ljj = std::sqrt(s);
+    const Real ljj = sqrt(s);
     l[n * j + j] = ljj;
     for (int i = j + 1; i < n; ++i) {
       Real t = m[n * i + j];
@@ -107,9 +108,8 @@ DESCENT_HOST_DEVICE inline void project_psd(Real* m, int n) {
         // A <- J^T A J with J the rotation in the (p, q) plane that zeroes
         // a_pq: t = tan of its angle, the smaller root of t^2 + 2 theta t - 1.
         const Real theta = (a[n * q + q] - a[n * p + p]) / (Real(2) * apq);
-        const Real t =
-            std::copysign(Real(1), theta) / (std::abs(theta) + std::sqrt(theta * theta + Real(1)));
-        const Real c = Real(1) / std::sqrt(t * t + Real(1));
+        const Real t = copysign(Real(1), theta) / (abs(theta) + sqrt(theta * theta + Real(1)));
+        const Real c = Real(1) / sqrt(t * t + Real(1));
         const Real s = t * c;
         for (int k = 0; k < n; ++k) {  // columns p, q
           const Real akp = a[n * k + p], akq = a[n * k + q];
@@ -155,7 +155,7 @@ DESCENT_HOST_DEVICE inline void project_psd(Real* m, int n) {
 template <class Real>
 DESCENT_HOST_DEVICE inline void project_psd_2x2(Real& p, Real& q, Real& r) {
   const Real mean = Real(0.5) * (p + r), half = Real(0.5) * (p - r);
-  const Real radius = std::sqrt(half * half + q * q);
+  const Real radius = sqrt(half * half + q * q);
   const Real high = mean + radius, low = mean - radius;
   if (low >= Real(0)) return;
   if (high <= Real(0)) {
@@ -185,7 +185,7 @@ DESCENT_HOST_DEVICE inline void project_isotropic_psd(const Mat3<Real>& f, Real 
   // its exact zeros, the rotations at rest) stays as it is. On the hanging
   // helix most elements take this path.
   Real scale = 0;
-  for (int i = 0; i < 9; ++i) scale = std::max(scale, std::abs(dpdf[10 * i]));
+  for (int i = 0; i < 9; ++i) scale = std::max(scale, abs(dpdf[10 * i]));
   if (positive_definite(dpdf, 9, 64 * std::numeric_limits<Real>::epsilon() * scale)) return;
   const Svd3<Real> s = svd3(f);
   // r[(3j + n) * 9 + 3a + b] = U_ja V_nb: dF = R dF^ as 9-vectors.

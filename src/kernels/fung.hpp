@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "kernels/neo_hookean.hpp"
+#include "kernels/real_math.hpp"
 
 namespace descent {
 
@@ -40,11 +41,11 @@ struct Fung {
   DESCENT_HOST_DEVICE Terms terms(const Mat3<Real>& f) const {
     const Mat3<Real> cof = cofactor(f);
     const Real j = f.m[0] * cof.m[0] + f.m[1] * cof.m[1] + f.m[2] * cof.m[2];
-    const Real cbrt_j = std::cbrt(j);
+    const Real cbrt_j = cbrt(j);
     const Real j_m23 = Real(1) / (cbrt_j * cbrt_j);
     const Real i1 = ddot(f, f);
     Terms r;
-    r.g = c2 * std::exp(c3 * (j_m23 * i1 - Real(3)));
+    r.g = c2 * exp(c3 * (j_m23 * i1 - Real(3)));
     const Real b = -Real(2) / Real(3) * i1 * j_m23 / j;
     for (int k = 0; k < 9; ++k) r.d.m[k] = Real(2) * j_m23 * f.m[k] + b * cof.m[k];
     r.stiffened = {neo_hookean.mu + Real(2) * r.g * c3, neo_hookean.kappa};
@@ -53,9 +54,9 @@ struct Fung {
 
   DESCENT_HOST_DEVICE Real energy(const Mat3<Real>& f) const {
     const Real j = det(f);
-    const Real cbrt_j = std::cbrt(j);
+    const Real cbrt_j = cbrt(j);
     const Real ibar1 = ddot(f, f) / (cbrt_j * cbrt_j);
-    return neo_hookean.energy(f) + c2 * (std::exp(c3 * (ibar1 - Real(3))) - Real(1));
+    return neo_hookean.energy(f) + c2 * (exp(c3 * (ibar1 - Real(3))) - Real(1));
   }
 
   DESCENT_HOST_DEVICE Mat3<Real> stress(const Mat3<Real>& f) const {

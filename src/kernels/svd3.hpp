@@ -31,6 +31,7 @@
 #include <cmath>
 
 #include "kernels/mat3.hpp"
+#include "kernels/real_math.hpp"
 
 namespace descent {
 
@@ -70,10 +71,10 @@ DESCENT_HOST_DEVICE inline void orthogonalize_columns(Mat3<Real>& b, Mat3<Real>&
     gamma += b.m[3 * r + p] * b.m[3 * r + q];
   }
   const Real tau = beta - alpha, rho = Real(2) * gamma;
-  const Real d = tau + std::copysign(std::sqrt(tau * tau + rho * rho), tau);
+  const Real d = tau + copysign(sqrt(tau * tau + rho * rho), tau);
   const Real len2 = d * d + rho * rho;
-  const Real inv_len = len2 > Real(0) ? Real(1) / std::sqrt(len2) : Real(0);
-  const Real c = len2 > Real(0) ? std::abs(d) * inv_len : Real(1);
+  const Real inv_len = len2 > Real(0) ? Real(1) / sqrt(len2) : Real(0);
+  const Real c = len2 > Real(0) ? abs(d) * inv_len : Real(1);
   const Real s = (d < Real(0) ? -rho : rho) * inv_len;
   for (int r = 0; r < 3; ++r) {
     const Real bp = b.m[3 * r + p], bq = b.m[3 * r + q];
@@ -113,7 +114,7 @@ DESCENT_HOST_DEVICE inline void eliminate_below(Mat3<Real>& r, Mat3<Real>& u, in
                                                 int col) {
   const Real a = r.m[3 * p + col], b = r.m[3 * q + col];
   const Real h2 = a * a + b * b;
-  const Real inv_h = h2 > Real(0) ? Real(1) / std::sqrt(h2) : Real(0);
+  const Real inv_h = h2 > Real(0) ? Real(1) / sqrt(h2) : Real(0);
   const Real c = h2 > Real(0) ? a * inv_h : Real(1);
   const Real s = b * inv_h;
   for (int k = 0; k < 3; ++k) {
@@ -131,10 +132,10 @@ DESCENT_HOST_DEVICE inline void eliminate_below(Mat3<Real>& r, Mat3<Real>& u, in
 template <class Real>
 DESCENT_HOST_DEVICE inline Svd3<Real> svd3(const Mat3<Real>& a) {
   Real max_abs = 0;
-  for (int k = 0; k < 9; ++k) max_abs = std::fmax(max_abs, std::abs(a.m[k]));
+  for (int k = 0; k < 9; ++k) max_abs = fmax(max_abs, abs(a.m[k]));
   int exponent = 0;
-  std::frexp(max_abs, &exponent);  // max_abs = m 2^exponent, m in [0.5, 1); 0 for a = 0
-  const Real to_unit = std::ldexp(Real(1), -exponent);
+  frexp(max_abs, &exponent);  // max_abs = m 2^exponent, m in [0.5, 1); 0 for a = 0
+  const Real to_unit = ldexp(Real(1), -exponent);
 
   Mat3<Real> b;
   for (int k = 0; k < 9; ++k) b.m[k] = a.m[k] * to_unit;
@@ -154,7 +155,7 @@ DESCENT_HOST_DEVICE inline Svd3<Real> svd3(const Mat3<Real>& a) {
   svd3_detail::eliminate_below(b, u, 1, 2, 1);
 
   Svd3<Real> result{u, {}, v};
-  for (int k = 0; k < 3; ++k) result.sigma[k] = std::ldexp(b.m[4 * k], exponent);
+  for (int k = 0; k < 3; ++k) result.sigma[k] = ldexp(b.m[4 * k], exponent);
   return result;
 }
 
