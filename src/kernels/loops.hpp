@@ -19,6 +19,9 @@
 #include "kernels/element_hessian_product.hpp"
 #include "kernels/execution.hpp"
 #include "kernels/vertex.hpp"
+#if !defined(__CUDACC__)
+#include "kernels/cpu/lane_models.hpp"
+#endif
 
 // A body launched by an execution: host and device under nvcc.
 #define DESCENT_LAMBDA [=] DESCENT_HOST_DEVICE
@@ -119,11 +122,22 @@ DESCENT_HOST_DEVICE inline void element_results(const Model& model, const Conver
 // Gradient (and, when `with_diag`, the Hessian diagonal) of tets [begin,
 // end). With conversion (Converting) each tet's interpolant is updated in
 // place first (Eq. 17). Gather and scatter are separate loops, so neither
-// tests the other's case per tet.
+// tests the other's case per tet. On the host, the gather pass of a model
+// that runs in lanes takes blocks of tets at once (kernels/cpu/lane_models.hpp),
+// bitwise the same results.
 template <bool Converting, class Exec, class Real, class Model>
 void element_pass(Exec& exec, int stream, const Model& model, const Conversion<Real>& conv,
                   Real* interpolant, const Real* x, const index_t* tets, const TetRest<Real>* rest,
                   index_t begin, index_t end, bool with_diag, ElementOut<Real> out) {
+#if !defined(__CUDACC__)
+  if constexpr (!Converting && Exec::kHostMemory && LaneModel<Model, kLaneWidth<Real>>) {
+    if (out.partial == nullptr) {
+      element_pass_lanes<kLaneWidth<Real>>(exec, stream, model, x, tets, rest, begin, end,
+                                           out.corner_grad, with_diag ? out.corner_diag : nullptr);
+      return;
+    }
+  }
+#endif
   if (out.partial == nullptr) {
     exec.for_each(
         stream, begin, end, DESCENT_LAMBDA(index_t t) DESCENT_INLINE_BODY {

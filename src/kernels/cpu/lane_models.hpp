@@ -1,0 +1,106 @@
+#pragma once
+// The element pass over blocks of tets on the host: each block's corners and
+// rest data are loaded into Lanes (kernels/cpu/lanes.hpp), the model's own
+// gradient and Hessian diagonal (kernels/element.hpp) run once for the whole
+// block, and each lane's results are stored where the tet-by-tet loop puts
+// them (12 corner reals per tet; layout of kernels/loops.hpp). Bitwise the
+// tet-by-tet results (lanes.hpp says why), so every later sum is unchanged.
+//
+// Models whose stress and Hessian diagonal never compare reals: neo-Hookean,
+// StVK, Mooney-Rivlin and Fung. Corotated and arap (the SVD's sweeps and
+// sorting) and conversion (the interpolant's clamps) branch per tet and keep
+// the tet-by-tet loop; `lane_model` is not defined for them.
+#include <cstdint>
+
+#include "common/mesh.hpp"
+#include "kernels/cpu/lanes.hpp"
+#include "kernels/element.hpp"
+#include "kernels/fung.hpp"
+#include "kernels/mooney_rivlin.hpp"
+#include "kernels/neo_hookean.hpp"
+#include "kernels/stvk.hpp"
+
+namespace descent {
+
+// A model's parameters broadcast to every lane.
+template <int W, class T>
+NeoHookean<Lanes<T, W>> lane_model(const NeoHookean<T>& m) {
+  return {m.mu, m.kappa};
+}
+template <int W, class T>
+StVK<Lanes<T, W>> lane_model(const StVK<T>& m) {
+  return {m.mu, m.lambda};
+}
+template <int W, class T>
+MooneyRivlin<Lanes<T, W>> lane_model(const MooneyRivlin<T>& m) {
+  return {lane_model<W>(m.neo_hookean), m.c2};
+}
+template <int W, class T>
+Fung<Lanes<T, W>> lane_model(const Fung<T>& m) {
+  return {lane_model<W>(m.neo_hookean), m.c2, m.c3};
+}
+
+// Whether Model runs in lanes of width W.
+template <class Model, int W>
+concept LaneModel = requires(const Model& m) {
+  lane_model<W>(m);
+};
+
+// Tets [first, first + count) into the lanes of `c` and `rest` (count <= W);
+// lanes past `count` repeat the block's last tet, computed and not stored.
+template <int W, class T>
+void load_lanes(const T* x, const index_t* tets, const TetRest<T>* rest, index_t first, int count,
+                TetCorners<Lanes<T, W>>& c, TetRest<Lanes<T, W>>& r) {
+  for (int l = 0; l < W; ++l) {
+    const index_t t = first + (l < count ? l : count - 1);
+    const index_t* tet = tets + 4 * static_cast<std::int64_t>(t);
+    for (int a = 0; a < 4; ++a) {
+      const T* p = x + 3 * static_cast<std::int64_t>(tet[a]);
+      c.x[a].x.v[l] = p[0];
+      c.x[a].y.v[l] = p[1];
+      c.x[a].z.v[l] = p[2];
+    }
+    for (int k = 0; k < 9; ++k) r.dm_inv.m[k].v[l] = rest[t].dm_inv.m[k];
+    r.volume.v[l] = rest[t].volume;
+  }
+}
+
+// The first `count` lanes of per-corner values into 12 reals per tet from
+// tet `first` on.
+template <int W, class T>
+void store_lanes(const Vec3<Lanes<T, W>> values[4], index_t first, int count, T* out) {
+  for (int l = 0; l < count; ++l) {
+    T* o = out + 12 * static_cast<std::int64_t>(first + l);
+    for (int a = 0; a < 4; ++a) {
+      o[3 * a] = values[a].x.v[l];
+      o[3 * a + 1] = values[a].y.v[l];
+      o[3 * a + 2] = values[a].z.v[l];
+    }
+  }
+}
+
+// The gather element pass of tets [begin, end) in blocks of W: gradients to
+// corner_grad and, with `corner_diag` not null, the Hessian diagonal there.
+template <int W, class Exec, class Real, class Model>
+void element_pass_lanes(Exec& exec, int stream, const Model& model, const Real* x,
+                        const index_t* tets, const TetRest<Real>* rest, index_t begin, index_t end,
+                        Real* corner_grad, Real* corner_diag) {
+  using L = Lanes<Real, W>;
+  const auto lanes = lane_model<W>(model);
+  const index_t blocks = (end - begin + W - 1) / W;
+  exec.for_each(stream, 0, blocks, [=](index_t b) {
+    const index_t first = begin + b * W;
+    const int count = end - first < W ? static_cast<int>(end - first) : W;
+    TetCorners<L> c;
+    TetRest<L> r;
+    load_lanes<W>(x, tets, rest, first, count, c, r);
+    Vec3<L> out[4];
+    element_gradient(lanes, r, c, out);
+    store_lanes<W>(out, first, count, corner_grad);
+    if (!corner_diag) return;
+    element_hessian_diagonal(lanes, r, c, out);
+    store_lanes<W>(out, first, count, corner_diag);
+  });
+}
+
+}  // namespace descent
