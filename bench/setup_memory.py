@@ -72,7 +72,7 @@ def run_once(cmd):
     setup = float(re.search(r"set-up ([0-9.]+) s to the first step", text).group(1))
     phases = re.search(r"mesh set-up ([0-9.]+) s on rank 0: slices ([0-9.]+) s, dual graph "
                        r"([0-9.]+) s, partition ([0-9.]+) s, tets moved ([0-9.]+) s, vertices "
-                       r"([0-9.]+) s, local mesh ([0-9.]+) s", text)
+                       r"([0-9.]+) s, faces matched [0-9.]+ s, local mesh ([0-9.]+) s", text)
     if phases:
         phases = [float(x) for x in phases.groups()]
     else:  # partitioned beforehand: the piece read stands for the slices

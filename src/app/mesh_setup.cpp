@@ -64,9 +64,11 @@ DistributedMesh set_up_mesh(MPI_Comm comm, const Scene& scene, const MeshSetupOp
     if (options.partition_file.empty())
       inform(
           "mesh set-up %.2f s on rank 0: slices %.2f s, dual graph %.2f s, partition %.2f s, "
-          "tets moved %.2f s, vertices %.2f s, local mesh %.2f s, local order (%s) %.2f s",
+          "tets moved %.2f s, vertices %.2f s, faces matched %.2f s, local mesh %.2f s, local "
+          "order (%s) %.2f s",
           read_seconds + partition_seconds, read_seconds, s.dual_graph, s.partition, s.migration,
-          s.vertices, s.local_mesh, scene.partition.reorder.c_str(), s.local_order);
+          s.vertices, s.face_matching, s.local_mesh, scene.partition.reorder.c_str(),
+          s.local_order);
     else
       inform(
           "mesh set-up %.2f s on rank 0, partitioned beforehand: piece read %.2f s, vertices "

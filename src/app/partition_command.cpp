@@ -11,6 +11,8 @@
 #include "app/scene_mesh.hpp"
 #include "comm/collective_error.hpp"
 #include "comm/mpi_check.hpp"
+#include "partition/face_matching.hpp"
+#include "partition/geometric_partition.hpp"
 #include "partition/partition_file.hpp"
 
 namespace descent {
@@ -61,13 +63,22 @@ int run_partition(MPI_Comm comm, const Scene& scene, const PartitionOptions& opt
     for (const std::string& w : report.warnings) warn("%s", w.c_str());
   const PartitionMethod method = agree(
       comm, [&] { return choose_partition_method(scene.partition.method, slice.num_global_tets); });
-  DualGraph graph = agree(comm, [&] { return build_dual_graph(comm, slice); });
-  const GraphPartition partition = agree(comm, [&] {
-    return partition_dual_graph(comm, graph, parts, method, scene.partition.tries);
-  });
-  const std::vector<std::uint8_t> surface_faces = std::move(graph.surface_faces);
-  graph = {};
-  const std::vector<PartTets> held =
+  // RCB needs no dual graph: the surface faces and the cut are found from
+  // the parts' tets once they have moved (partition/face_matching.hpp).
+  const bool graph_free = method == PartitionMethod::rcb;
+  GraphPartition partition;
+  std::vector<std::uint8_t> surface_faces;
+  if (graph_free) {
+    partition.part = agree(comm, [&] { return partition_by_coordinates(comm, slice, parts); });
+    surface_faces.assign(slice.num_tets(), 0);
+  } else {
+    DualGraph graph = agree(comm, [&] { return build_dual_graph(comm, slice); });
+    partition = agree(comm, [&] {
+      return partition_dual_graph(comm, graph, parts, method, scene.partition.tries);
+    });
+    surface_faces = std::move(graph.surface_faces);
+  }
+  std::vector<PartTets> held =
       agree(comm, [&] { return migrate_tets(comm, slice, surface_faces, partition.part, parts); });
 
   // Each part's local mesh, for its quality and to validate it (flat tets)
@@ -75,6 +86,9 @@ int run_partition(MPI_Comm comm, const Scene& scene, const PartitionOptions& opt
   PartitionQuality quality = agree(comm, [&] {
     const std::vector<PartVertices> vertices = gather_part_vertices(
         comm, held, slice.num_global_vertices, slice.first_vertex, slice.positions, nullptr);
+    if (graph_free)
+      partition.cut_faces =
+          match_part_faces(comm, held, vertices, slice.num_global_vertices, parts, slice.source);
     std::vector<LocalMesh> locals;
     std::string error;
     try {

@@ -564,7 +564,8 @@ void check_scene_values(const SceneDocument& doc, const Scene& scene) {
 
   check_contact(doc, scene);
 
-  require_one_of(doc, "partition.method", scene.partition.method, {"auto", "metis", "ptscotch"});
+  require_one_of(doc, "partition.method", scene.partition.method,
+                 {"auto", "metis", "ptscotch", "rcb"});
   require(doc, scene.partition.tries >= 1 && scene.partition.tries <= 100, "partition.tries",
           "in [1, 100]", scene.partition.tries);
   require_one_of(doc, "partition.reorder", scene.partition.reorder, {"rcm", "none"});

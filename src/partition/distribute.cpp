@@ -9,6 +9,8 @@
 #include "comm/mpi_check.hpp"
 #include "common/block_range.hpp"
 #include "common/error.hpp"
+#include "partition/face_matching.hpp"
+#include "partition/geometric_partition.hpp"
 #include "partition/local_order.hpp"
 #include "partition/radix_sort.hpp"
 
@@ -221,14 +223,19 @@ std::vector<PartVertices> gather_part_vertices(MPI_Comm comm, std::span<const Pa
   return vertices;
 }
 
-void assemble_local_mesh(MPI_Comm comm, const PartTets& tets, global_index_t num_vertices,
+void assemble_local_mesh(MPI_Comm comm, PartTets& tets, global_index_t num_vertices,
                          global_index_t num_tets, global_index_t first_vertex,
                          std::span<const double> block_positions, const std::string& reorder,
-                         DistributedMesh& mesh) {
+                         DistributedMesh& mesh, global_index_t* cut_faces) {
   Stopwatch clock;
   const std::vector<PartVertices> vertices = gather_part_vertices(
       comm, std::span(&tets, 1), num_vertices, first_vertex, block_positions, &mesh.unused);
   mesh.seconds.vertices = clock.lap();
+  if (cut_faces) {
+    *cut_faces = match_part_faces(comm, std::span(&tets, 1), vertices, num_vertices,
+                                  comm_size(comm), mesh.source);
+    mesh.seconds.face_matching = clock.lap();
+  }
   index_t reoriented = 0;
   std::string error;
   try {
@@ -255,18 +262,27 @@ DistributedMesh distribute_mesh(MPI_Comm comm, MeshSlice slice, const PartitionS
   const global_index_t num_vertices = slice.num_global_vertices, num_tets = slice.num_global_tets;
 
   Stopwatch clock;
-  DualGraph graph = build_dual_graph(comm, slice);
-  mesh.seconds.dual_graph = clock.lap();
-  const GraphPartition partition = partition_dual_graph(comm, graph, size, mesh.method, spec.tries);
-  const std::vector<int>& part = partition.part;
+  // RCB needs no dual graph: the surface faces and the cut are found after
+  // migration, from each part's own tets (face_matching.hpp).
+  const bool graph_free = mesh.method == PartitionMethod::rcb;
+  GraphPartition partition;
+  std::vector<std::uint8_t> surface_faces;
+  if (graph_free) {
+    partition.part = partition_by_coordinates(comm, slice, size);
+    surface_faces.assign(slice.num_tets(), 0);
+  } else {
+    DualGraph graph = build_dual_graph(comm, slice);
+    mesh.seconds.dual_graph = clock.lap();
+    partition = partition_dual_graph(comm, graph, size, mesh.method, spec.tries);
+    surface_faces = std::move(graph.surface_faces);
+  }
   mesh.seconds.partition = clock.lap();
-  const std::vector<std::uint8_t> surface_faces = std::move(graph.surface_faces);
-  graph = {};
-  std::vector<PartTets> tets = migrate_tets(comm, slice, surface_faces, part, size);
+  std::vector<PartTets> tets = migrate_tets(comm, slice, surface_faces, partition.part, size);
   slice.tets = {};
   mesh.seconds.migration = clock.lap();
   assemble_local_mesh(comm, tets.front(), num_vertices, num_tets, slice.first_vertex,
-                      slice.positions, spec.reorder, mesh);
+                      slice.positions, spec.reorder, mesh,
+                      graph_free ? &partition.cut_faces : nullptr);
   slice.positions = {};
   tets = {};
   mesh.local.body_vertex_offsets = std::move(slice.body_vertex_offsets);

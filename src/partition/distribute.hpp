@@ -82,9 +82,11 @@ LocalMesh build_local_mesh(const PartTets& tets, const PartVertices& vertices, i
 
 // Wall seconds of each set-up phase on this rank, for the log and the
 // benchmarks.
+// face_matching: the surface and the cut found after migration
+// (partition.method = "rcb", which skips the dual graph).
 struct SetupSeconds {
-  double dual_graph = 0, partition = 0, migration = 0, vertices = 0, local_mesh = 0,
-         local_order = 0;
+  double dual_graph = 0, partition = 0, migration = 0, vertices = 0, face_matching = 0,
+         local_mesh = 0, local_order = 0;
 };
 
 // Everything a rank of a run needs of the mesh.
@@ -104,11 +106,13 @@ struct DistributedMesh {
 // `first_vertex`), its LocalMesh built and validated (an InputError on any
 // rank ends every rank) and renumbered as `reorder` (PartitionSpec::reorder)
 // says, and the counts of re-oriented tets and unused vertices summed; fills
-// those members of `mesh`.
-void assemble_local_mesh(MPI_Comm comm, const PartTets& tets, global_index_t num_vertices,
+// those members of `mesh`. With `cut_faces`, the tets' surface faces are
+// found first (match_part_faces: a partition made without the dual graph)
+// and the faces between parts stored there.
+void assemble_local_mesh(MPI_Comm comm, PartTets& tets, global_index_t num_vertices,
                          global_index_t num_tets, global_index_t first_vertex,
                          std::span<const double> block_positions, const std::string& reorder,
-                         DistributedMesh& mesh);
+                         DistributedMesh& mesh, global_index_t* cut_faces = nullptr);
 
 // Collective: the whole set-up from slices, one part per rank of comm,
 // partitioned as `spec` says (choose_partition_method, partition_dual_graph).

@@ -16,19 +16,29 @@ PartitionMethod choose_partition_method(const std::string& name, global_index_t 
           "libptscotch-dev); \"metis\" partitions on rank 0");
     return PartitionMethod::ptscotch;
   }
+  if (name == "rcb") return PartitionMethod::rcb;
   if (name == "auto")
     return num_tets >= kSerialPartitionLimit && have_ptscotch() ? PartitionMethod::ptscotch
                                                                 : PartitionMethod::metis;
-  throw InputError("partition.method '" + name + "' is not one of: auto, metis, ptscotch");
+  throw InputError("partition.method '" + name + "' is not one of: auto, metis, ptscotch, rcb");
 }
 
 const char* to_string(PartitionMethod method) {
-  return method == PartitionMethod::metis ? "METIS" : "PT-Scotch";
+  switch (method) {
+    case PartitionMethod::metis:
+      return "METIS";
+    case PartitionMethod::ptscotch:
+      return "PT-Scotch";
+    case PartitionMethod::rcb:
+      return "RCB";
+  }
+  return "";
 }
 
 GraphPartition partition_dual_graph(MPI_Comm comm, const DualGraph& graph, int nparts,
                                     PartitionMethod method, int tries) {
   DESCENT_VERIFY(nparts >= 1 && tries >= 1, "nparts = ", nparts, ", tries = ", tries);
+  DESCENT_VERIFY(method != PartitionMethod::rcb, "RCB partitions tets, not the dual graph");
   if (graph.num_global_tets < nparts)
     throw PartitionError(detail::concat("cannot split ", graph.num_global_tets, " tets into ",
                                         nparts, " parts: fewer tets than parts"));

@@ -18,7 +18,9 @@
 
 namespace descent {
 
-enum class PartitionMethod { metis, ptscotch };
+// rcb: recursive coordinate bisection (partition/geometric_partition.hpp),
+// which needs no dual graph.
+enum class PartitionMethod { metis, ptscotch, rcb };
 
 // The gathered graph at this size takes rank 0 about 10 MB and METIS well
 // under a second; beyond it rank 0's memory and time stand out.
@@ -27,8 +29,8 @@ inline constexpr global_index_t kSerialPartitionLimit = 500'000;
 // Whether this descent was built with PT-Scotch (Debian: libptscotch-dev).
 bool have_ptscotch();
 
-// "auto", "metis" or "ptscotch" (scene key partition.method); "ptscotch" in
-// a build without it is an InputError naming the package.
+// "auto", "metis", "ptscotch" or "rcb" (scene key partition.method);
+// "ptscotch" in a build without it is an InputError naming the package.
 PartitionMethod choose_partition_method(const std::string& name, global_index_t num_tets);
 const char* to_string(PartitionMethod method);
 

@@ -23,7 +23,15 @@ using hdf5::Hid;
 using hdf5::owned;
 
 const char* method_key(PartitionMethod method) {
-  return method == PartitionMethod::metis ? "metis" : "ptscotch";
+  switch (method) {
+    case PartitionMethod::metis:
+      return "metis";
+    case PartitionMethod::ptscotch:
+      return "ptscotch";
+    case PartitionMethod::rcb:
+      return "rcb";
+  }
+  return "";
 }
 
 // Scalar attributes of /partition.
@@ -159,7 +167,10 @@ DistributedMesh distribute_piece(MPI_Comm comm, PartitionPiece piece, const std:
                                  const std::string& reorder) {
   DistributedMesh mesh;
   mesh.source = source;
-  mesh.method = piece.method == "metis" ? PartitionMethod::metis : PartitionMethod::ptscotch;
+  // read_partition_piece has checked the name.
+  mesh.method = piece.method == "metis"      ? PartitionMethod::metis
+                : piece.method == "ptscotch" ? PartitionMethod::ptscotch
+                                             : PartitionMethod::rcb;
   // read_partition_piece has checked every id.
   const global_index_t num_vertices = piece.num_global_vertices;
   assemble_local_mesh(comm, piece.tets, num_vertices, piece.num_global_tets, piece.first_vertex,

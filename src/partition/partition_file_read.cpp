@@ -293,9 +293,9 @@ PartitionPiece read_partition_piece(MPI_Comm comm, const std::string& path) {
                          " ranks; this run has ", size, " rank(s): run on ", parts,
                          " ranks, or partition again with descent partition -n ", size));
     piece.method = read_text_attribute(group.get(), "method", path);
-    if (piece.method != "metis" && piece.method != "ptscotch")
+    if (piece.method != "metis" && piece.method != "ptscotch" && piece.method != "rcb")
       throw InputError(detail::concat(path, ": /partition attribute method: '", piece.method,
-                                      "', not metis or ptscotch"));
+                                      "', not metis, ptscotch or rcb"));
     piece.quality.cut_faces = read_integer_attribute(group.get(), "cut_faces", path);
     piece.quality.imbalance = read_float_attribute(group.get(), "imbalance", path);
     if (piece.quality.cut_faces < 0 || !std::isfinite(piece.quality.imbalance) ||

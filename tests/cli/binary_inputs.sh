@@ -107,7 +107,7 @@ partition_case num_parts "holds a partition into $((ranks + 1)) parts"
 partition_case float_ids "/partition/tet_ids does not hold integers"
 partition_case nan_position "dataset /mesh/positions: row 0: a non-finite coordinate"
 partition_case surface_bits "dataset /partition/surface_faces: row 0: 200 is not"
-partition_case method "attribute method: 'scotch', not metis or ptscotch"
+partition_case method "attribute method: 'scotch', not metis, ptscotch or rcb"
 partition_case stats "dataset /partition/part_stats: row 0: "
 partition_case short_tets "dataset /partition/tets has [0-9]+ rows, but /partition/tet_ids has"
 check_cases

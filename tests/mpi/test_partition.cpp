@@ -1,5 +1,6 @@
 // The parallel set-up from slices to local meshes (partition/distribute.hpp),
-// with METIS and with PT-Scotch: the dual graph equals a serial reference,
+// with METIS, with PT-Scotch and with RCB (no dual graph: surface faces and
+// cut from face matching): the dual graph equals a serial reference,
 // every tet lands on exactly one rank, every vertex is owned by exactly one
 // rank, shared lists are symmetric, surface faces are the body's, the cut
 // counted in parallel equals a serial count, and bad meshes are refused on
@@ -15,6 +16,7 @@
 #include "common/error.hpp"
 #include "meshes/generators.hpp"
 #include "partition/distribute.hpp"
+#include "partition/geometric_partition.hpp"
 #include "world_rank.hpp"
 
 namespace descent {
@@ -59,6 +61,7 @@ std::array<index_t, 3> face_key(const Mesh& mesh, global_index_t t, int f) {
 std::vector<std::string> methods() {
   std::vector<std::string> m{"metis"};
   if (have_ptscotch()) m.push_back("ptscotch");
+  m.push_back("rcb");
   return m;
 }
 
@@ -301,9 +304,13 @@ TEST_P(PartitionTest, RefusesMorePartsThanTets) {
   box.cells = {1, 1, 1};
   box.tets_per_cell = 5;
   const Mesh mesh = make_box(box);
-  const DualGraph graph =
-      build_dual_graph(MPI_COMM_WORLD, slice_of(mesh, world_rank(), world_size()));
+  const MeshSlice slice = slice_of(mesh, world_rank(), world_size());
   const PartitionMethod method = choose_partition_method(GetParam(), mesh.num_tets());
+  if (method == PartitionMethod::rcb) {
+    EXPECT_THROW(partition_by_coordinates(MPI_COMM_WORLD, slice, 8), PartitionError);
+    return;
+  }
+  const DualGraph graph = build_dual_graph(MPI_COMM_WORLD, slice);
   EXPECT_THROW(partition_dual_graph(MPI_COMM_WORLD, graph, 8, method, 1), PartitionError);
 }
 
