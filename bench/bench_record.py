@@ -2,6 +2,7 @@
 environment MPI runs need here, and the report written where asked."""
 import os
 import platform
+from datetime import datetime, timezone
 from pathlib import Path
 
 
@@ -31,3 +32,12 @@ def write_report(lines, out):
         return
     Path(out).parent.mkdir(parents=True, exist_ok=True)
     Path(out).write_text(text)
+
+
+def machine_lines():
+    """The date, machine and GPU lines that head a CPU benchmark's report."""
+    return [
+        f"- date: {datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}",
+        f"- machine: {cpu_model()}, {os.cpu_count()} logical cores, {platform.system()} {platform.release()}",
+        "- GPU: none used (CPU backend)",
+    ]

@@ -18,15 +18,13 @@ so the ratio is measured on one machine in one sitting.
 """
 import argparse
 import os
-import platform
 import re
 import statistics
 import subprocess
 import sys
-from datetime import datetime, timezone
 from pathlib import Path
 
-from bench_record import cpu_model
+from bench_record import machine_lines
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -100,9 +98,7 @@ def main():
         f"# CPU throughput: double helix {args.preset}, {args.iterations} iterations per step, "
         f"{args.parameters} Chebyshev parameters",
         "",
-        f"- date: {datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}",
-        f"- machine: {cpu_model()}, {os.cpu_count()} logical cores, {platform.system()} {platform.release()}",
-        f"- GPU: none used (CPU backend)",
+        *machine_lines(),
         f"- command (per configuration, ranks and OMP_NUM_THREADS varied): `{command}`",
         f"- figure: step wall time / (tets x iterations), {args.frames} frames per run, median of {args.runs} runs",
     ]

@@ -23,16 +23,13 @@ accuracy 1e-2) for --frames frames and records its ms per frame, none
 against rcm, in bench/results/locality_main_job.md.
 """
 import argparse
-import os
-import platform
 import re
 import statistics
 import subprocess
 import sys
-from datetime import datetime, timezone
 from pathlib import Path
 
-from bench_record import cpu_model, mpi_env, write_report
+from bench_record import machine_lines, mpi_env, write_report
 
 ROOT = Path(__file__).resolve().parent.parent
 SHARED = ROOT.parent / "shared" / "meshes"
@@ -144,9 +141,7 @@ def main_job(args):
     lines = [
         "# Locality: the built-in job's ms per frame by local numbering (partition.reorder)",
         "",
-        f"- date: {datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}",
-        f"- machine: {cpu_model()}, {os.cpu_count()} logical cores, {platform.system()} {platform.release()}",
-        "- GPU: none used (CPU backend)",
+        *machine_lines(),
         f"- command (last run; ranks and partition.reorder varied): `{command}`",
         f"- figure: the run's own ms/frame over {args.frames} frames of jobs/helix.toml (82K helix, multilevel, "
         f"accuracy 1e-2), median of {args.runs} runs, \"none\" and \"rcm\" alternately; 1 OpenMP thread per rank",
@@ -203,9 +198,7 @@ def main():
     lines = [
         "# Locality: ns per tet-iteration by local numbering (partition.reorder)",
         "",
-        f"- date: {datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}",
-        f"- machine: {cpu_model()}, {os.cpu_count()} logical cores, {platform.system()} {platform.release()}",
-        "- GPU: none used (CPU backend)",
+        *machine_lines(),
         f"- command (last run; scene, ranks and partition.reorder varied; the scenes are written by this "
         f"script: the mesh, neo-Hookean E = 1e6, nu = 0.3, rho = 1000, dt = 1/30, falling freely): `{command}`",
         f"- figure: step wall time / (tets x iterations), {args.frames} frames of 96 Jacobi-Chebyshev "

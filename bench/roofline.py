@@ -32,19 +32,19 @@ bandwidth for a working set of the run's size; the larger applies.
 
 --compare runs an earlier build's binary with the same keys, alternating
 with this build's run by run, so that before and after are measured in one
-sitting; the table gains its median and the speed-up.
+sitting; the table gains its median and the speed-up. --samples-from REPORT
+takes the runs' samples (and the earlier build's) from an earlier report of
+this script instead of running the cases again, and measures the machine
+and computes the bounds anew.
 """
 import argparse
-import os
-import platform
 import re
 import statistics
 import subprocess
 import sys
-from datetime import datetime, timezone
 from pathlib import Path
 
-from bench_record import cpu_model, mpi_env, write_report
+from bench_record import machine_lines, mpi_env, write_report
 
 ROOT = Path(__file__).resolve().parent.parent
 WORK = ROOT / "out" / "bench" / "roofline"
@@ -158,6 +158,23 @@ def measure(binary, model, precision, ranks, preset, frames):
     return float(ns.group(1)), int(size.group(1)), int(size.group(2)), " ".join(args).replace(f"{ROOT}/", "")
 
 
+def report_samples(path):
+    """{(ranks, model, precision): (samples, earlier samples)}, the mesh size and the command of a report."""
+    text = path.read_text()
+    size = re.search(r"^Mesh: ([0-9]+) tets, ([0-9]+) vertices", text, re.M)
+    command = re.search(r"^- command \(last run[^`]*`([^`]*)`", text, re.M)
+    if not (size and command):
+        sys.exit(f"{path}: no mesh size or command line: not a report of this script")
+    found = {}
+    for line in text.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) < 16 or not cells[0].isdigit() or cells[1] not in MODELS:
+            continue
+        parse = lambda cell: [float(x) for x in cell.split(",")] if cell else []
+        found[(int(cells[0]), cells[1], cells[2])] = (parse(cells[15]), parse(cells[18]) if len(cells) > 18 else [])
+    return found, int(size.group(1)), int(size.group(2)), command.group(1)
+
+
 def bound(counts, rates, model, precision, tets, vertices, ranks):
     """(compute ns, memory ns, bytes, flops, the calls' ns) per tet-iteration over all ranks."""
     s = 8 if precision == "double" else 4
@@ -182,6 +199,7 @@ def main():
     parser.add_argument("--ranks", nargs="+", type=int, default=[1, 2], help="rank counts (1 thread each)")
     parser.add_argument("--output", default=None, help="default bench/results/roofline_<preset>.md")
     parser.add_argument("--compare", type=Path, help="an earlier build's descent, run alternately")
+    parser.add_argument("--samples-from", type=Path, help="an earlier report whose samples to use")
     args = parser.parse_args()
     WORK.mkdir(parents=True, exist_ok=True)
     build(args.build)
@@ -189,11 +207,17 @@ def main():
     binary = args.build / "src/app/descent"
 
     rows, commands, rate_rows = [], [], {}
+    recorded = report_samples(args.samples_from) if args.samples_from else None
     for ranks in args.ranks:
         for model in args.models:
             for precision in args.precisions:
                 samples, before = [], []
-                for r in range(args.runs):
+                if recorded:
+                    if (ranks, model, precision) not in recorded[0]:
+                        sys.exit(f"{args.samples_from} has no row for {ranks} rank(s), {model}, {precision}")
+                    samples, before = recorded[0][(ranks, model, precision)]
+                    tets, vertices, command = recorded[1], recorded[2], recorded[3]
+                for r in range(0 if recorded else args.runs):
                     if args.compare:
                         before.append(measure(args.compare, model, precision, ranks, args.preset, args.frames)[0])
                     ns, vertices, tets, command = measure(binary, model, precision, ranks, args.preset, args.frames)
@@ -214,22 +238,29 @@ def main():
                 rows.append((ranks, model, precision, nbytes, flops, ops, calls, compute, memory, limit, measured,
                              samples, tets, vertices, before))
 
+    compared = any(row[14] for row in rows)
+    earlier_line = []
+    if args.compare:
+        earlier_line = [f"- earlier build (--compare): `{str(args.compare).replace(f'{ROOT}/', '')}`, the same keys, "
+                        "run alternately with this build's"]
+    elif compared:
+        earlier_line = re.findall(r"^- earlier build.*$", args.samples_from.read_text(), re.M)
     preset = args.preset
     out = args.output or ROOT / f"bench/results/roofline_{preset}.md"
     any_rates = next(iter(rate_rows.values()))
     lines = [
         f"# Roofline of the CPU tet-iteration, {preset} helix",
         "",
-        f"- date: {datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}",
-        f"- machine: {cpu_model()}, {os.cpu_count()} logical cores, {platform.system()} {platform.release()}",
-        "- GPU: none used (CPU backend)",
+        *machine_lines(),
         f"- build: CMAKE_BUILD_TYPE=Release, DESCENT_CPU_ARCH={cpu_arch(args.build)!r}: vector extensions "
         f"`{any_rates['isa']}` (the rates and the bound are this build's)",
         f"- command (last run; model, precision and ranks varied): `{commands[-1]}`",
-        *([f"- earlier build (--compare): `{str(args.compare).replace(f'{ROOT}/', '')}`, the same keys, run "
-           "alternately with this build's"] if args.compare else []),
-        f"- measured: the run's own ns per tet-iteration (step time / (tets x iterations)), median of {args.runs} "
-        f"runs of {args.frames} frames; 1 OpenMP thread per rank",
+        *earlier_line,
+        f"- measured: the run's own ns per tet-iteration (step time / (tets x iterations)), median of "
+        f"{len(rows[0][11])} runs; 1 OpenMP thread per rank"
+        + (f" (the samples of `{str(args.samples_from).replace(f'{ROOT}/', '')}`, measured "
+           f"{re.search(r'- date: (.*)', args.samples_from.read_text()).group(1)}; the machine rates anew)"
+           if args.samples_from else f", {args.frames} frames a run"),
         "- machine rates (`bench/roofline/machine_rates.cpp`, same ranks, threads and flags; triad over each "
         "rank's working set):",
         "",
@@ -247,8 +278,8 @@ def main():
         "",
         "| ranks | model | precision | bytes | flops | div | sqrt | cbrt | exp | calls ns | compute ns | memory ns "
         "| bound | measured ns | % of bound | samples |" + (" earlier build ns | speed-up | earlier samples |"
-                                                             if args.compare else ""),
-        "| --- " * (16 + (3 if args.compare else 0)) + "|",
+                                                             if compared else ""),
+        "| --- " * (16 + (3 if compared else 0)) + "|",
     ]
     for (ranks, model, precision, nbytes, flops, ops, calls, compute, memory, limit, measured, samples, tets,
          vertices, before) in rows:

@@ -10,10 +10,14 @@
 //   triad_GBps_double/float  a[i] = b[i] + s c[i] over 3 arrays of
 //                            BYTES_PER_RANK / 3 bytes per rank, counted as
 //                            STREAM counts (3 words per element moved)
-//   peak_GFlops_double/float independent multiply-add chains the compiler
-//                            vectorises (2 flops each), no memory traffic
-//   ns_<op>_double/float     one core's time per call of sqrt, cbrt, exp and
-//                            a division, independent calls (throughput)
+//   peak_GFlops_double/float independent multiply-add chains (2 flops each),
+//                            no memory traffic
+//   ns_<op>_double/float     one core's time per call of sqrt, cbrt and exp
+//                            (independent calls: a throughput), and per
+//                            division
+// The triad, the chains and the division run in Lanes of the build's vector
+// width (kernels/cpu/lanes.hpp), as descent's element pass does: the build
+// has no automatic vectorisation (CMakeLists.txt says why).
 #include <mpi.h>
 #include <omp.h>
 
@@ -24,7 +28,12 @@
 #include <cstdlib>
 #include <vector>
 
+#include "kernels/cpu/lanes.hpp"
+
 namespace {
+
+using descent::kLaneWidth;
+using descent::Lanes;
 
 double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -62,39 +71,45 @@ double timed(int repeats, Body&& body) {
   return best;
 }
 
+// The triad in lanes of the build's vector width, as descent's own vector
+// code is written (the build compiles without automatic vectorisation).
 template <class Real>
 double triad_gbps(std::size_t bytes_per_rank, int ranks) {
-  const std::size_t n = bytes_per_rank / (3 * sizeof(Real));
-  std::vector<Real> a(n), b(n), c(n);
+  using L = Lanes<Real, kLaneWidth<Real>>;
+  const std::size_t blocks = bytes_per_rank / (3 * sizeof(L));
+  std::vector<L> a(blocks), b(blocks), c(blocks);
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) a[i] = 0, b[i] = Real(1), c[i] = Real(2);
+  for (std::size_t i = 0; i < blocks; ++i) a[i] = L(0), b[i] = L(1), c[i] = L(2);
   // Enough sweeps for ~50 ms per timing whatever the size.
+  const std::size_t n = blocks * kLaneWidth<Real>;
   const int sweeps = static_cast<int>(std::max<std::size_t>(1, (std::size_t(1) << 27) / n / 8 + 1));
-  const Real s = Real(0.5);
+  const L s = L(Real(0.5));
   const double t = timed(7, [&] {
     for (int k = 0; k < sweeps; ++k) {
 #pragma omp parallel for schedule(static)
-      for (std::size_t i = 0; i < n; ++i) a[i] = b[i] + s * c[i];
+      for (std::size_t i = 0; i < blocks; ++i) a[i] = b[i] + s * c[i];
     }
   });
-  volatile Real sink = a[n / 2];
+  volatile Real sink = a[blocks / 2].v[0];
   (void)sink;
   return 3.0 * sizeof(Real) * n * sweeps * ranks / t / 1e9;
 }
 
-// kChains independent chains x <- x a + b, which the compiler keeps in
-// registers and vectorises: 2 flops per chain per round. Not inlined, and
-// its sum kept, so that the work cannot be dropped.
+// kChains independent chains x <- x a + b in lanes of the build's vector
+// width (kept in registers): 2 flops per lane per chain per round. Not
+// inlined, and its sum kept, so that the work cannot be dropped.
 template <class Real>
 __attribute__((noinline)) Real multiply_add_chains(long rounds) {
-  constexpr int kChains = 64 / sizeof(Real) * 4;  // four 512-bit registers' worth
-  Real x[kChains];
-  for (int k = 0; k < kChains; ++k) x[k] = Real(1) + Real(k) * Real(1e-3);
-  const Real a = Real(0.999999), b = Real(1e-7);
+  using L = Lanes<Real, kLaneWidth<Real>>;
+  constexpr int kChains = 8;
+  L x[kChains];
+  for (int k = 0; k < kChains; ++k) x[k] = L(Real(1) + Real(k) * Real(1e-3));
+  const L a = L(Real(0.999999)), b = L(Real(1e-7));
   for (long r = 0; r < rounds; ++r)
     for (int k = 0; k < kChains; ++k) x[k] = x[k] * a + b;
   Real s = 0;
-  for (int k = 0; k < kChains; ++k) s += x[k];
+  for (int k = 0; k < kChains; ++k)
+    for (int l = 0; l < kLaneWidth<Real>; ++l) s += x[k].v[l];
   return s;
 }
 
@@ -108,7 +123,7 @@ double peak_gflops(int ranks) {
   });
   volatile double sink = sum;
   (void)sink;
-  return 2.0 * (64 / sizeof(Real) * 4) * rounds * omp_get_max_threads() * ranks / t / 1e9;
+  return 2.0 * 8 * kLaneWidth<Real> * rounds * omp_get_max_threads() * ranks / t / 1e9;
 }
 
 // One core's ns per call of op over independent inputs (a throughput, as
@@ -128,6 +143,24 @@ double ns_per_call(Op&& op) {
   return t / (double(kN) * sweeps) * 1e9;
 }
 
+// One core's ns per division in lanes (as the element math divides).
+template <class Real>
+double ns_per_lane_division() {
+  using L = Lanes<Real, kLaneWidth<Real>>;
+  constexpr int kBlocks = 512;
+  std::vector<L> in(kBlocks), out(kBlocks);
+  for (int i = 0; i < kBlocks; ++i) in[i] = L(Real(0.5) + Real(i) / Real(kBlocks));
+  const int sweeps = 2000;
+  const L num = L(Real(1.5));
+  const double t = timed(5, [&] {
+    for (int s = 0; s < sweeps; ++s) {
+      for (int i = 0; i < kBlocks; ++i) out[i] = num / in[i];
+      in[s % kBlocks] = out[(s * 7) % kBlocks] * L(Real(1e-9)) + L(Real(0.5));
+    }
+  });
+  return t / (double(kBlocks) * kLaneWidth<Real> * sweeps) * 1e9;
+}
+
 template <class Real>
 void print_rates(const char* name, std::size_t bytes, int ranks, int rank) {
   const double triad = triad_gbps<Real>(bytes, ranks);
@@ -135,7 +168,7 @@ void print_rates(const char* name, std::size_t bytes, int ranks, int rank) {
   const double ns_sqrt = ns_per_call<Real>([](Real x) { return std::sqrt(x); });
   const double ns_cbrt = ns_per_call<Real>([](Real x) { return std::cbrt(x); });
   const double ns_exp = ns_per_call<Real>([](Real x) { return std::exp(x); });
-  const double ns_div = ns_per_call<Real>([](Real x) { return Real(1.5) / x; });
+  const double ns_div = ns_per_lane_division<Real>();
   if (rank != 0) return;
   std::printf("triad_GBps_%s %.3f\npeak_GFlops_%s %.3f\n", name, triad, name, peak);
   std::printf("ns_sqrt_%s %.4f\nns_cbrt_%s %.4f\nns_exp_%s %.4f\nns_div_%s %.4f\n", name, ns_sqrt,
