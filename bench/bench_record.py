@@ -2,6 +2,8 @@
 environment MPI runs need here, and the report written where asked."""
 import os
 import platform
+import subprocess
+import sys
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -41,3 +43,19 @@ def machine_lines():
         f"- machine: {cpu_model()}, {os.cpu_count()} logical cores, {platform.system()} {platform.release()}",
         "- GPU: none used (CPU backend)",
     ]
+
+
+def sample_list(values):
+    """A report's samples column: every value to 0.1."""
+    return ", ".join(f"{x:.1f}" for x in values)
+
+
+def run_command(cmd, root, env=None):
+    """Runs `cmd`; its stdout and stderr together, and the command as a report
+    records it (paths relative to `root`, so no machine's paths). Exits with
+    the command and its output when it fails."""
+    done = subprocess.run([str(c) for c in cmd], env=env, capture_output=True, text=True)
+    shown = " ".join(str(c) for c in cmd).replace(f"{root}/", "")
+    if done.returncode != 0:
+        sys.exit(f"failed: {shown}\n{done.stdout}\n{done.stderr}")
+    return done.stdout + done.stderr, shown

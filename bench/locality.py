@@ -29,7 +29,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from bench_record import machine_lines, mpi_env, write_report
+from bench_record import machine_lines, mpi_env, run_command, sample_list, write_report
 
 ROOT = Path(__file__).resolve().parent.parent
 SHARED = ROOT.parent / "shared" / "meshes"
@@ -52,10 +52,7 @@ SOLVER_KEYS = ['solver.preconditioner="jacobi"', 'solver.chebyshev_parameters="f
 
 def descent(binary, args, ranks=1):
     cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none", str(binary)] + args
-    done = subprocess.run(cmd, env=mpi_env(), capture_output=True, text=True)
-    if done.returncode != 0:
-        sys.exit(f"failed: {' '.join(cmd)}\n{done.stdout}\n{done.stderr}")
-    return done.stdout + done.stderr, " ".join(cmd).replace(f"{ROOT}/", "")
+    return run_command(cmd, ROOT, mpi_env())
 
 
 def helix_file(binary, preset, shuffled):
@@ -154,7 +151,7 @@ def main_job(args):
         rcm = [ms for r, ms in samples["rcm"] if r == ranks]
         lines.append(f"| {ranks} | {statistics.median(none):.1f} | {statistics.median(rcm):.1f} | "
                      f"{statistics.median(none) / statistics.median(rcm):.2f} | "
-                     f"{', '.join(f'{x:.1f}' for x in none)} | {', '.join(f'{x:.1f}' for x in rcm)} |")
+                     f"{sample_list(none)} | {sample_list(rcm)} |")
     out = ROOT / "bench/results/locality_main_job.md"
     write_report(lines, str(out))
     print(f"wrote {out}")
@@ -211,8 +208,7 @@ def main():
     ]
     for name, tets, ranks, none, rcm, seconds, samples in rows:
         lines.append(f"| {name} | {tets} | {ranks} | {none:.1f} | {rcm:.1f} | {none / rcm:.2f} | {seconds:.2f} | "
-                     f"{', '.join(f'{s:.1f}' for s in samples['none'])} | "
-                     f"{', '.join(f'{s:.1f}' for s in samples['rcm'])} |")
+                     f"{sample_list(samples['none'])} | {sample_list(samples['rcm'])} |")
     write_report(lines, str(args.output))
     print(f"wrote {args.output}")
 

@@ -11,11 +11,10 @@ machine in bench/results/main_job_compare.md.
 import argparse
 import re
 import statistics
-import subprocess
 import sys
 from pathlib import Path
 
-from bench_record import machine_lines, mpi_env, write_report
+from bench_record import machine_lines, mpi_env, run_command, sample_list, write_report
 
 ROOT = Path(__file__).resolve().parent.parent
 WORK = ROOT / "out" / "bench" / "main_job_compare"
@@ -24,13 +23,11 @@ WORK = ROOT / "out" / "bench" / "main_job_compare"
 def ms_per_frame(binary, ranks, frames):
     cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none", str(binary), "run", "--overwrite",
            "--out", str(WORK), "--set", f"time.frames={frames}", "--set", f"output.every={frames + 1}"]
-    done = subprocess.run(cmd, env=mpi_env(), capture_output=True, text=True)
-    if done.returncode != 0:
-        sys.exit(f"failed: {' '.join(cmd)}\n{done.stdout}\n{done.stderr}")
-    found = re.search(r"([0-9.]+) ms/frame", done.stdout + done.stderr)
+    text, shown = run_command(cmd, ROOT, mpi_env())
+    found = re.search(r"([0-9.]+) ms/frame", text)
     if not found:
-        sys.exit(f"no ms/frame in the output of {' '.join(cmd)}")
-    return float(found.group(1)), " ".join(cmd).replace(f"{ROOT}/", "")
+        sys.exit(f"no ms/frame in the output of {shown}")
+    return float(found.group(1)), shown
 
 
 def main():
@@ -70,7 +67,7 @@ def main():
     for ranks, earlier, now in rows:
         lines.append(f"| {ranks} | {statistics.median(earlier):.1f} | {statistics.median(now):.1f} | "
                      f"{statistics.median(earlier) / statistics.median(now):.2f}x | "
-                     f"{', '.join(f'{x:.1f}' for x in earlier)} | {', '.join(f'{x:.1f}' for x in now)} |")
+                     f"{sample_list(earlier)} | {sample_list(now)} |")
     write_report(lines, str(args.output))
     print(f"wrote {args.output}")
 

@@ -40,11 +40,10 @@ and computes the bounds anew.
 import argparse
 import re
 import statistics
-import subprocess
 import sys
 from pathlib import Path
 
-from bench_record import machine_lines, mpi_env, write_report
+from bench_record import machine_lines, mpi_env, run_command, sample_list, write_report
 
 ROOT = Path(__file__).resolve().parent.parent
 WORK = ROOT / "out" / "bench" / "roofline"
@@ -101,11 +100,8 @@ def ops_per_iteration(counts, model, tets, vertices):
     return total
 
 
-def run(cmd, **kwargs):
-    done = subprocess.run(cmd, capture_output=True, text=True, **kwargs)
-    if done.returncode != 0:
-        sys.exit(f"failed: {' '.join(map(str, cmd))}\n{done.stdout}\n{done.stderr}")
-    return done.stdout + done.stderr
+def run(cmd, env=None):
+    return run_command(cmd, ROOT, env)[0]
 
 
 def build(build_dir):
@@ -287,10 +283,10 @@ def main():
         line = (f"| {ranks} | {model} | {precision} | {nbytes:.0f} | {flops:.0f} | {ops['div']:.1f} | "
                 f"{ops['sqrt']:.1f} | {ops['cbrt']:.2f} | {ops['exp']:.2f} | {calls:.2f} | {compute:.2f} | "
                 f"{memory:.2f} | {which} {limit:.2f} | {measured:.1f} | {100 * limit / measured:.0f}% | "
-                f"{', '.join(f'{x:.1f}' for x in samples)} |")
+                f"{sample_list(samples)} |")
         if before:
             line += (f" {statistics.median(before):.1f} | {statistics.median(before) / measured:.2f}x | "
-                     f"{', '.join(f'{x:.1f}' for x in before)} |")
+                     f"{sample_list(before)} |")
         lines.append(line)
     lines += ["", f"Mesh: {rows[0][12]} tets, {rows[0][13]} vertices ({3 * rows[0][13] / rows[0][12]:.3f} dofs per tet).",
               "Operations per tet and per dof (bench/roofline/op_count.cpp, 64 tets rotated at random and stretched "
