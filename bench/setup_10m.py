@@ -9,6 +9,7 @@ built; output opened: mesh and frame 0 written). The methods are run in turn, ro
 round, so a change of the machine's load falls on all of them.
 
   python3 bench/setup_10m.py --out bench/results/setup_10m/README.md
+  python3 bench/setup_10m.py --hugepages --out bench/results/setup_10m/hugepages.md
   python3 bench/setup_10m.py --size 1M --runs 1 --methods rcb   # quick look
 """
 import argparse
@@ -34,8 +35,17 @@ QUALITY_LINE = re.compile(r"partition \(([A-Za-z-]+)\): \d+ parts, imbalance ([0
                           r"(\d+)")
 
 
-def run_once(cmd):
-    text = subprocess.run(cmd, env=mpi_env(), check=True, capture_output=True, text=True).stdout
+# glibc's malloc asks for transparent huge pages (madvise) on the memory it maps: a 2 MiB page
+# faulted in where 512 pages of 4 KiB were, which is most of the set-up's time on a machine whose
+# page faults are dear (docs/partition.md).
+HUGEPAGES = "glibc.malloc.hugetlb=1"
+
+
+def run_once(cmd, hugepages):
+    env = mpi_env()
+    if hugepages:
+        env["GLIBC_TUNABLES"] = HUGEPAGES
+    text = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
     setup, _, solver, output = (float(x) for x in re.search(
         r"set-up ([0-9.]+) s to the first step: mesh ([0-9.]+) s, solver ([0-9.]+) s, output "
         r"([0-9.]+) s", text).groups())
@@ -54,6 +64,8 @@ def main():
     parser.add_argument("--iterations", type=int, default=16)
     parser.add_argument("--methods", nargs="+", default=["auto", "rcb"],
                         help="partition.method values compared")
+    parser.add_argument("--hugepages", action="store_true",
+                        help=f"run with GLIBC_TUNABLES={HUGEPAGES}")
     parser.add_argument("--out", default="-")
     args = parser.parse_args()
 
@@ -66,7 +78,7 @@ def main():
                 cmd = command(args.binary, args.ranks, scene, args.iterations, scratch, method,
                               None)
                 commands[method] = " ".join(cmd)
-                samples[method].append(run_once(cmd))
+                samples[method].append(run_once(cmd, args.hugepages))
                 print(method, samples[method][-1]["setup"], flush=True)
 
     median = statistics.median
@@ -80,6 +92,8 @@ def main():
         "checkpoint, Jacobi preconditioner; seconds on rank 0 from the run's own log (output: "
         "the output opened, mesh and frame 0 written)",
         f"- median of {args.runs} runs per method, the methods taken in turn in each round",
+        f"- malloc: GLIBC_TUNABLES={HUGEPAGES} (transparent huge pages on malloc's maps)"
+        if args.hugepages else "- malloc: glibc's defaults (4 KiB pages)",
         "",
         "| partition.method | partitioner | set-up s | " + " | ".join(PHASES)
         + " | cut faces | imbalance |",
