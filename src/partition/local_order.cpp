@@ -1,7 +1,6 @@
 #include "partition/local_order.hpp"
 
 #include <algorithm>
-#include <numeric>
 
 #include "common/error.hpp"
 
@@ -162,18 +161,26 @@ void reorder_local_mesh(LocalMesh& mesh, const std::string& method) {
   for (std::vector<index_t>& shared : mesh.shared_with)
     for (index_t& v : shared) v = new_of_old[v];  // the list's order (global id) stays
 
-  // Tets: each class by its lowest corner, then global id.
+  // Tets: each class by its lowest corner, then global id. Each class comes
+  // in ascending global id (local_mesh.hpp), so a stable counting sort by
+  // the lowest corner gives that order in linear time (a comparison sort of
+  // millions of tets took a good part of this step).
   std::vector<index_t> lowest(nt);
   for (index_t t = 0; t < nt; ++t)
     lowest[t] = *std::min_element(&mesh.tets[4 * static_cast<std::size_t>(t)],
                                   &mesh.tets[4 * static_cast<std::size_t>(t)] + 4);
   std::vector<index_t> tet_order(nt);
-  std::iota(tet_order.begin(), tet_order.end(), index_t{0});
-  auto by_lowest = [&](index_t a, index_t b) {
-    return lowest[a] != lowest[b] ? lowest[a] < lowest[b] : mesh.global_tet[a] < mesh.global_tet[b];
+  std::vector<index_t> start(static_cast<std::size_t>(nv) + 1);
+  auto sort_class = [&](index_t begin, index_t end) {
+    DESCENT_ASSERT(std::is_sorted(mesh.global_tet.begin() + begin, mesh.global_tet.begin() + end),
+                   "tets of a class in ascending global id");
+    std::fill(start.begin(), start.end(), 0);
+    for (index_t t = begin; t < end; ++t) ++start[lowest[t] + 1];
+    for (index_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+    for (index_t t = begin; t < end; ++t) tet_order[begin + start[lowest[t]]++] = t;
   };
-  std::sort(tet_order.begin(), tet_order.begin() + mesh.num_boundary_tets, by_lowest);
-  std::sort(tet_order.begin() + mesh.num_boundary_tets, tet_order.end(), by_lowest);
+  sort_class(0, mesh.num_boundary_tets);
+  sort_class(mesh.num_boundary_tets, nt);
   std::vector<global_index_t> global_tet(nt);
   std::vector<index_t> tets(mesh.tets.size());
   std::vector<std::uint8_t> surface_faces(nt);

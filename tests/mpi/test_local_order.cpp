@@ -95,7 +95,8 @@ TEST(LocalOrder, EachClassKeepsItsVerticesAndTheHaloItsOrder) {
   }
 
   // The same tets, corners in the same order (orientation kept), surface
-  // faces with them, boundary tets first, each group by its lowest corner.
+  // faces with them, boundary tets first, each group by its lowest corner,
+  // then by global id.
   EXPECT_EQ(tets_by_id(rcm), tets_by_id(none));
   std::map<global_index_t, int> surface;
   for (index_t t = 0; t < none.num_tets(); ++t) surface[none.global_tet[t]] = none.surface_faces[t];
@@ -112,6 +113,9 @@ TEST(LocalOrder, EachClassKeepsItsVerticesAndTheHaloItsOrder) {
   for (index_t t = 1; t < rcm.num_tets(); ++t)
     if (t != rcm.num_boundary_tets) {
       ASSERT_LE(lowest(t - 1), lowest(t)) << "tet " << t;
+      if (lowest(t - 1) == lowest(t)) {
+        ASSERT_LT(rcm.global_tet[t - 1], rcm.global_tet[t]) << "tets of one lowest corner";
+      }
     }
   ASSERT_EQ(rcm.vertex_corners.size(), rcm.tets.size());
   for (index_t v = 0; v < rcm.num_vertices(); ++v)
