@@ -13,29 +13,18 @@
 
 #include "comm/collective_error.hpp"
 #include "common/error.hpp"
-#include "meshes/generators.hpp"
 #include "partition/distribute.hpp"
 #include "partition/geometric_partition.hpp"
+#include "partition_meshes.hpp"
 #include "world_rank.hpp"
 
 namespace descent {
 namespace {
 
+using testing::small_box;
+using testing::small_helix;
 using testing::world_rank;
 using testing::world_size;
-
-Mesh small_box() {
-  BoxParams box;
-  box.cells = {6, 5, 4};
-  box.tets_per_cell = 5;
-  return make_box(box);
-}
-
-Mesh small_helix() {
-  DoubleHelixParams helix;
-  helix.resolution = 1.2;
-  return make_double_helix(helix);
-}
 
 // The part of every tet of the mesh, computed on the world's ranks and
 // gathered on each.
