@@ -12,10 +12,11 @@
 //                            STREAM counts (3 words per element moved)
 //   peak_GFlops_double/float independent multiply-add chains (2 flops each),
 //                            no memory traffic
-//   ns_<op>_double/float     one core's time per call of sqrt, cbrt and exp
-//                            (independent calls: a throughput), and per
-//                            division
-// The triad, the chains and the division run in Lanes of the build's vector
+//   ns_<op>_double/float     one core's time per call of sqrt and exp
+//                            (independent calls: a throughput), and per value
+//                            of a division and of the cube root (kernels/
+//                            cube_root.hpp) taken in lanes
+// The triad, the chains, the division and the cube root run in Lanes of the build's vector
 // width (kernels/cpu/lanes.hpp), as descent's element pass does: the build
 // has no automatic vectorisation (CMakeLists.txt says why).
 #include <mpi.h>
@@ -143,18 +144,18 @@ double ns_per_call(Op&& op) {
   return t / (double(kN) * sweeps) * 1e9;
 }
 
-// One core's ns per division in lanes (as the element math divides).
-template <class Real>
-double ns_per_lane_division() {
+// One core's ns per value of an operation on lanes (as the element math
+// divides and takes cube roots: a block of tets per instruction).
+template <class Real, class Op>
+double ns_per_lane_value(Op&& op) {
   using L = Lanes<Real, kLaneWidth<Real>>;
   constexpr int kBlocks = 512;
   std::vector<L> in(kBlocks), out(kBlocks);
   for (int i = 0; i < kBlocks; ++i) in[i] = L(Real(0.5) + Real(i) / Real(kBlocks));
   const int sweeps = 2000;
-  const L num = L(Real(1.5));
   const double t = timed(5, [&] {
     for (int s = 0; s < sweeps; ++s) {
-      for (int i = 0; i < kBlocks; ++i) out[i] = num / in[i];
+      for (int i = 0; i < kBlocks; ++i) out[i] = op(in[i]);
       in[s % kBlocks] = out[(s * 7) % kBlocks] * L(Real(1e-9)) + L(Real(0.5));
     }
   });
@@ -166,9 +167,10 @@ void print_rates(const char* name, std::size_t bytes, int ranks, int rank) {
   const double triad = triad_gbps<Real>(bytes, ranks);
   const double peak = peak_gflops<Real>(ranks);
   const double ns_sqrt = ns_per_call<Real>([](Real x) { return std::sqrt(x); });
-  const double ns_cbrt = ns_per_call<Real>([](Real x) { return std::cbrt(x); });
+  using L = Lanes<Real, kLaneWidth<Real>>;
+  const double ns_cbrt = ns_per_lane_value<Real>([](L x) { return cube_root(x); });
   const double ns_exp = ns_per_call<Real>([](Real x) { return std::exp(x); });
-  const double ns_div = ns_per_lane_division<Real>();
+  const double ns_div = ns_per_lane_value<Real>([](L x) { return L(Real(1.5)) / x; });
   if (rank != 0) return;
   std::printf("triad_GBps_%s %.3f\npeak_GFlops_%s %.3f\n", name, triad, name, peak);
   std::printf("ns_sqrt_%s %.4f\nns_cbrt_%s %.4f\nns_exp_%s %.4f\nns_div_%s %.4f\n", name, ns_sqrt,

@@ -9,14 +9,17 @@
 // Output (bench/roofline.py reads it): one line per model and kernel,
 //   model kernel add mul div sqrt cbrt exp compare other
 // per tet (per dof for the vertex kernels), where add counts additions and
-// subtractions, compare the comparisons, other abs, copysign, fmax, frexp
-// and ldexp (bit operations on x86, not floating-point arithmetic).
+// subtractions, cbrt the cube roots (kernels/cube_root.hpp), compare the
+// comparisons, other abs, copysign, fmax, frexp and ldexp (bit operations
+// on x86, not floating-point arithmetic).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <random>
 #include <string>
+
+#include "kernels/cube_root.hpp"
 
 namespace descent::roofline {
 
@@ -50,7 +53,7 @@ struct Counted {
   friend bool operator!=(Counted a, Counted b) { return ++counts.compare, a.v != b.v; }
 
   friend Counted sqrt(Counted a) { return ++counts.sqrt, Counted(std::sqrt(a.v)); }
-  friend Counted cbrt(Counted a) { return ++counts.cbrt, Counted(std::cbrt(a.v)); }
+  friend Counted cube_root(Counted a) { return ++counts.cbrt, Counted(descent::cube_root(a.v)); }
   friend Counted exp(Counted a) { return ++counts.exp, Counted(std::exp(a.v)); }
   friend Counted abs(Counted a) { return ++counts.other, Counted(std::abs(a.v)); }
   friend Counted copysign(Counted a, Counted b) {

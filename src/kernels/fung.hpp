@@ -41,8 +41,8 @@ struct Fung {
   DESCENT_HOST_DEVICE Terms terms(const Mat3<Real>& f) const {
     const Mat3<Real> cof = cofactor(f);
     const Real j = f.m[0] * cof.m[0] + f.m[1] * cof.m[1] + f.m[2] * cof.m[2];
-    const Real cbrt_j = cbrt(j);
-    const Real j_m23 = Real(1) / (cbrt_j * cbrt_j);
+    const Real root_j = cube_root(j);
+    const Real j_m23 = Real(1) / (root_j * root_j);
     const Real i1 = ddot(f, f);
     Terms r;
     r.g = c2 * exp(c3 * (j_m23 * i1 - Real(3)));
@@ -54,8 +54,8 @@ struct Fung {
 
   DESCENT_HOST_DEVICE Real energy(const Mat3<Real>& f) const {
     const Real j = det(f);
-    const Real cbrt_j = cbrt(j);
-    const Real ibar1 = ddot(f, f) / (cbrt_j * cbrt_j);
+    const Real root_j = cube_root(j);
+    const Real ibar1 = ddot(f, f) / (root_j * root_j);
     return neo_hookean.energy(f) + c2 * (exp(c3 * (ibar1 - Real(3))) - Real(1));
   }
 

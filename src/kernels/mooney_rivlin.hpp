@@ -45,8 +45,8 @@ struct MooneyRivlin {
     r.j = f.m[0] * r.g.m[0] + f.m[1] * r.g.m[1] + f.m[2] * r.g.m[2];
     r.i1 = ddot(f, f);
     r.i2 = ddot(r.g, r.g);
-    const Real cbrt_j = cbrt(r.j);
-    r.w = Real(1) / (cbrt_j * cbrt_j * cbrt_j * cbrt_j);
+    const Real root_j = cube_root(r.j);
+    r.w = Real(1) / (root_j * root_j * root_j * root_j);
     Mat3<Real> ft;  // F^T
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) ft.m[3 * i + k] = f.m[3 * k + i];
@@ -58,8 +58,8 @@ struct MooneyRivlin {
   DESCENT_HOST_DEVICE Real energy(const Mat3<Real>& f) const {
     const Mat3<Real> g = cofactor(f);
     const Real j = f.m[0] * g.m[0] + f.m[1] * g.m[1] + f.m[2] * g.m[2];
-    const Real cbrt_j = cbrt(j);
-    const Real w = Real(1) / (cbrt_j * cbrt_j * cbrt_j * cbrt_j);
+    const Real root_j = cube_root(j);
+    const Real w = Real(1) / (root_j * root_j * root_j * root_j);
     return neo_hookean.energy(f) + c2 * (w * ddot(g, g) - Real(3));
   }
 

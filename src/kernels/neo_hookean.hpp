@@ -64,7 +64,7 @@ struct NeoHookean {
 
   DESCENT_HOST_DEVICE Real energy(const Mat3<Real>& f) const {
     const Real j = det(f);
-    const Real j_m23 = Real(1) / (cbrt(j) * cbrt(j));
+    const Real j_m23 = Real(1) / (cube_root(j) * cube_root(j));
     return mu / Real(2) * (j_m23 * ddot(f, f) - Real(3)) + kappa / Real(2) * (j - 1) * (j - 1);
   }
 
@@ -74,8 +74,8 @@ struct NeoHookean {
   DESCENT_HOST_DEVICE Mat3<Real> stress(const Mat3<Real>& f) const {
     const Mat3<Real> c = cofactor(f);
     const Real j = f.m[0] * c.m[0] + f.m[1] * c.m[1] + f.m[2] * c.m[2];
-    const Real cbrt_j = cbrt(j);
-    const Real j_m23 = Real(1) / (cbrt_j * cbrt_j);
+    const Real root_j = cube_root(j);
+    const Real j_m23 = Real(1) / (root_j * root_j);
     const Real i1 = ddot(f, f);
     const Real a = mu * j_m23;
     const Real b = -mu / Real(3) * i1 * j_m23 / j + kappa * (j - Real(1));
@@ -94,8 +94,8 @@ struct NeoHookean {
     const Mat3<Real> c = cofactor(f);
     const Real j = f.m[0] * c.m[0] + f.m[1] * c.m[1] + f.m[2] * c.m[2];
     const Real i1 = ddot(f, f);
-    const Real cbrt_j = cbrt(j);
-    const Real j_m23 = Real(1) / (cbrt_j * cbrt_j);
+    const Real root_j = cube_root(j);
+    const Real j_m23 = Real(1) / (root_j * root_j);
     const Real inv_j = Real(1) / j;
     for (int a = 0; a < 4; ++a) {
       Real d[3];
@@ -117,8 +117,8 @@ struct NeoHookean {
   DESCENT_HOST_DEVICE void stress_derivative(const Mat3<Real>& f, Real dpdf[81]) const {
     const Mat3<Real> c = cofactor(f);
     const Real j = f.m[0] * c.m[0] + f.m[1] * c.m[1] + f.m[2] * c.m[2];
-    const Real cbrt_j = cbrt(j);
-    const Real j_m23 = Real(1) / (cbrt_j * cbrt_j);
+    const Real root_j = cube_root(j);
+    const Real j_m23 = Real(1) / (root_j * root_j);
     const Real inv_j = Real(1) / j;
     const Real i1 = ddot(f, f);
     const Real a = mu * j_m23;

@@ -6,10 +6,11 @@
 // model computes per tet.
 #include <cmath>
 
+#include "kernels/cube_root.hpp"  // cube_root: vectorisable, in place of std::cbrt
+
 namespace descent {
 
 using std::abs;
-using std::cbrt;
 using std::copysign;
 using std::exp;
 using std::fmax;

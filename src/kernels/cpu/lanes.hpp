@@ -6,14 +6,19 @@
 //
 // Each lane gets bitwise the result the math gives on T alone: +, -, *, /
 // are elementwise IEEE operations (and the build contracts none into a fused
-// multiply-add, -ffp-contract=off), and the math calls (cbrt, sqrt, exp) go
-// lane by lane through std's. Comparisons are deliberately absent: a model
+// multiply-add, -ffp-contract=off); cube_root runs the steps of
+// kernels/cube_root.hpp on whole vectors, and sqrt and exp go lane by lane
+// through std's. Comparisons are deliberately absent: a model
 // that branches on a real cannot be instantiated on Lanes and keeps the
 // tet-by-tet loop (kernels/cpu/lane_models.hpp lists the models that can).
 //
 // Host only: nvcc's device code has its own parallelism (one tet per thread).
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "kernels/cube_root.hpp"
 
 namespace descent {
 
@@ -58,9 +63,27 @@ struct Lanes {
   Lanes& operator*=(Lanes b) { return *this = *this * b; }
   Lanes& operator/=(Lanes b) { return *this = *this / b; }
 
-  friend Lanes cbrt(Lanes a) {
-    for (int l = 0; l < W; ++l) a.v[l] = std::cbrt(a.v[l]);
-    return a;
+  // The steps of cube_root_scalar with masks for its branches. A cast
+  // between vector types of one size reinterprets the bits (GCC's rule).
+  friend Lanes cube_root(Lanes x) {
+    using Steps = CubeRootSteps<T>;
+    using Word = typename Steps::Word;
+    typedef Word Words __attribute__((vector_size(W * sizeof(T))));  // NOLINT: as Vector
+    typedef std::uint64_t Wide __attribute__((vector_size(W * 8)));  // NOLINT: as Vector
+    const Words sign = (Words)x.v & (Word(1) << (8 * sizeof(Word) - 1));
+    const Vector a = (Vector)((Words)x.v ^ sign);
+    const auto small = a < Steps::kSmall;
+    const auto large = a > Steps::kLarge;
+    const Vector s = small ? a * Steps::kScale : large ? a * (T(1) / Steps::kScale) : a;
+    // high / 3 for high < 2^32 as a multiply and a shift in 64 bits (vector
+    // units divide no integers): 0xAAAAAAAB = (2^33 + 1) / 3 makes it exact.
+    const Wide high = __builtin_convertvector((Words)s >> Steps::kHighShift, Wide);
+    const Words third = __builtin_convertvector((high * 0xAAAAAAABull) >> 33, Words);
+    const Words guess = (third + Steps::kBias) << Steps::kHighShift;
+    Vector y = cube_root_halley<T>(of(s), of((Vector)guess)).v;
+    y = small ? y * (T(1) / Steps::kRootScale) : large ? y * Steps::kRootScale : y;
+    const auto special = (a == T(0)) | (a != a) | (a == std::numeric_limits<T>::infinity());
+    return of(special ? x.v : (Vector)((Words)y | sign));
   }
   friend Lanes sqrt(Lanes a) {
     for (int l = 0; l < W; ++l) a.v[l] = std::sqrt(a.v[l]);
