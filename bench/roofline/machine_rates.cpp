@@ -16,9 +16,9 @@
 //                            (independent calls: a throughput), and per value
 //                            of a division and of the cube root (kernels/
 //                            cube_root.hpp) taken in lanes
-// The triad, the chains, the division and the cube root run in Lanes of the build's vector
-// width (kernels/cpu/lanes.hpp), as descent's element pass does: the build
-// has no automatic vectorisation (CMakeLists.txt says why).
+// The triad, the chains, the division and the cube root run in Lanes of the
+// build's vector width (kernels/cpu/lanes.hpp), as descent's element pass
+// does: the build has no automatic vectorisation (CMakeLists.txt says why).
 #include <mpi.h>
 #include <omp.h>
 

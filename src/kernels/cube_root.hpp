@@ -40,9 +40,7 @@ struct CubeRootSteps<double> {
   using Word = std::uint64_t;            // the bits of one value
   static constexpr int kHighShift = 32;  // the guess works on the high word
   static constexpr std::uint32_t kBias = 0x2A9F7893u;
-  static constexpr double kSmall = 0x1p-600;  // scaled up below this
-  static constexpr double kLarge = 0x1p600;   // scaled down above this
-  static constexpr double kScale = 0x1p600;
+  static constexpr double kScale = 0x1p600;      // |x| above scaled down, below 1/kScale up
   static constexpr double kRootScale = 0x1p200;  // cube root of kScale
   static constexpr int kHalleySteps = 3;
 };
@@ -52,8 +50,6 @@ struct CubeRootSteps<float> {
   using Word = std::uint32_t;
   static constexpr int kHighShift = 0;  // a float is one 32-bit word
   static constexpr std::uint32_t kBias = 0x2A5137A0u;
-  static constexpr float kSmall = 0x1p-60f;
-  static constexpr float kLarge = 0x1p60f;
   static constexpr float kScale = 0x1p60f;
   static constexpr float kRootScale = 0x1p20f;
   static constexpr int kHalleySteps = 2;
@@ -78,8 +74,8 @@ DESCENT_HOST_DEVICE T cube_root_scalar(T x) {
   using Word = typename Steps::Word;
   const T a = std::fabs(x);
   if (!(a > T(0)) || a == std::numeric_limits<T>::infinity()) return x;  // 0, NaN, inf
-  const bool small = a < Steps::kSmall;
-  const bool large = a > Steps::kLarge;
+  const bool small = a < T(1) / Steps::kScale;
+  const bool large = a > Steps::kScale;
   const T s = small ? a * Steps::kScale : large ? a * (T(1) / Steps::kScale) : a;
   Word bits;
   std::memcpy(&bits, &s, sizeof bits);

@@ -64,7 +64,8 @@ struct NeoHookean {
 
   DESCENT_HOST_DEVICE Real energy(const Mat3<Real>& f) const {
     const Real j = det(f);
-    const Real j_m23 = Real(1) / (cube_root(j) * cube_root(j));
+    const Real root_j = cube_root(j);
+    const Real j_m23 = Real(1) / (root_j * root_j);
     return mu / Real(2) * (j_m23 * ddot(f, f) - Real(3)) + kappa / Real(2) * (j - 1) * (j - 1);
   }
 

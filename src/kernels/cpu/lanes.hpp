@@ -72,8 +72,8 @@ struct Lanes {
     typedef std::uint64_t Wide __attribute__((vector_size(W * 8)));  // NOLINT: as Vector
     const Words sign = (Words)x.v & (Word(1) << (8 * sizeof(Word) - 1));
     const Vector a = (Vector)((Words)x.v ^ sign);
-    const auto small = a < Steps::kSmall;
-    const auto large = a > Steps::kLarge;
+    const auto small = a < T(1) / Steps::kScale;
+    const auto large = a > Steps::kScale;
     const Vector s = small ? a * Steps::kScale : large ? a * (T(1) / Steps::kScale) : a;
     // high / 3 for high < 2^32 as a multiply and a shift in 64 bits (vector
     // units divide no integers): 0xAAAAAAAB = (2^33 + 1) / 3 makes it exact.
