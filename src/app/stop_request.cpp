@@ -38,6 +38,11 @@ StopRequest::StopRequest() {
 }
 
 StopRequest::~StopRequest() {
+  // After a stop (caught or agreed) the handlers stay until the process
+  // ends: once the first rank exits with kStoppedExitCode, mpiexec sends
+  // SIGTERM to the ranks still in MPI_Finalize, which would die of it
+  // (status 143) after their checkpoints were written.
+  if (caught != 0) return;
   for (std::size_t s = 0; s < std::size(kStopSignals); ++s)
     sigaction(kStopSignals[s], &previous[s], nullptr);
 }
@@ -45,6 +50,8 @@ StopRequest::~StopRequest() {
 int StopRequest::agreed(MPI_Comm comm) const {
   int signal = caught;
   DESCENT_MPI_CHECK(MPI_Allreduce(MPI_IN_PLACE, &signal, 1, MPI_INT, MPI_MAX, comm));
+  // A rank that caught nothing stops too: it keeps its handlers as well.
+  if (caught == 0) caught = signal;
   return signal;
 }
 

@@ -16,7 +16,8 @@ constexpr int kStoppedExitCode = 75;
 
 class StopRequest {
  public:
-  // Installs the handlers; the destructor restores the previous ones.
+  // Installs the handlers; the destructor restores the previous ones unless
+  // a stop was caught (then they stay until the process ends).
   StopRequest();
   ~StopRequest();
   StopRequest(const StopRequest&) = delete;

@@ -12,10 +12,15 @@ rm -rf "$out" && mkdir -p "$out"
 mpiexec -n "$ranks" --oversubscribe "$descent" run "$scene" --quiet --out "$out/whole"
 
 # Each rank records its pid and its own exit status (mpiexec reports one).
+# The wrapper then waits (up to 10 s) for every rank's status before it
+# exits: mpiexec takes a wrapper that ends while another rank still runs for
+# a failed process and sends SIGTERM to the rest, wrappers included, and a
+# rank's status would be lost (seen under load on 2 ranks).
 mpiexec -n "$ranks" --oversubscribe sh -c \
   '"$0" run "$1" --quiet --out "$2/stopped" 2>"$2/err.$OMPI_COMM_WORLD_RANK" &
-   echo $! >"$2/pid.$OMPI_COMM_WORLD_RANK"; wait $!; echo $? >"$2/rc.$OMPI_COMM_WORLD_RANK"' \
-  "$descent" "$scene" "$out" &
+   echo $! >"$2/pid.$OMPI_COMM_WORLD_RANK"; wait $!; echo $? >"$2/rc.$OMPI_COMM_WORLD_RANK"
+   for _ in $(seq 200); do [ "$(ls "$2" | grep -c "^rc\.")" -ge "$3" ] && break; sleep 0.05; done' \
+  "$descent" "$scene" "$out" "$ranks" &
 launcher=$!
 stats="$out/stopped/stats.csv"
 for _ in $(seq 600); do
