@@ -5,16 +5,27 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace descent {
 
 // An energy and the sum of the magnitudes of its terms: the scale of its
-// round-off, so a change below that scale is not read as a rise.
+// round-off, so a change below that scale is not read as a rise. The terms
+// are evaluated in double (loops::local_energy); a term evaluated in another
+// precision counts with in_double_units.
 struct Energy {
   double value = 0;
   double magnitude = 0;
 };
+
+// The magnitude of terms evaluated in Real, in Energy::magnitude's units:
+// weighted by Real's epsilon over double's (2^29 for float's contact terms).
+template <class Real>
+double in_double_units(double magnitude) {
+  return magnitude *
+         (std::numeric_limits<Real>::epsilon() / std::numeric_limits<double>::epsilon());
+}
 
 // Up to two energies travel together: the first check of a time step also
 // carries the energy of the step's initial guess, so the initial guess costs

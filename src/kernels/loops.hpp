@@ -12,12 +12,14 @@
 //   partial: `width` reals per vertex, gradient xyz at [width v, +3) and,
 //   with the Hessian diagonal (width 6), its xyz at [width v + 3, +3)
 #include <cstdint>
+#include <limits>
 
 #include "common/mesh.hpp"
 #include "kernels/conversion.hpp"
 #include "kernels/element.hpp"
 #include "kernels/element_hessian_product.hpp"
 #include "kernels/execution.hpp"
+#include "kernels/in_double.hpp"
 #include "kernels/vertex.hpp"
 #if !defined(__CUDACC__)
 #include "kernels/cpu/lane_models.hpp"
@@ -411,25 +413,41 @@ double inner_product(Exec& exec, int stream, index_t num_dofs, const Real* a, co
 }
 
 // This rank's share of eps(q): element terms of all its tets plus the vertex
-// terms of its owned vertices [0, num_owned), in double, with magnitudes.
-// One reduction over both (index i: tet i and owned vertex i), so a check
-// waits for the execution once.
+// terms of its owned vertices [0, num_owned), with magnitudes. Evaluated in
+// double whatever Real (kernels/in_double.hpp): a float run's checks judge
+// its float iterates by their energy free of float's round-off. One
+// reduction over both (index i: tet i and owned vertex i), so a check waits
+// for the execution once.
+//
+// The magnitude also holds the resolution of states in Real: rounding a free
+// dof q_k to Real moves eps by up to 1/2 d_k (eps_Real q_k)^2, with d_k
+// `curvature` (3 per vertex, the Hessian diagonal at rest). A float iterate
+// near its minimum moves between such states from check to check; a rise of
+// that size is float's, not the descent's. Counted in double's units (the
+// magnitude's round-off is weighted by double's epsilon, comm/reduction.hpp).
 template <bool Converting, class Exec, class Real, class Model>
 Sum2 local_energy(Exec& exec, int stream, const Model& model, const Conversion<Real>& conv,
                   const Real* interpolant, const Real* q, const index_t* tets,
                   const TetRest<Real>* rest, index_t num_tets, VertexData<Real> vd,
-                  index_t num_owned) {
+                  const Real* curvature, index_t num_owned) {
   const index_t n = num_tets > num_owned ? num_tets : num_owned;
+  constexpr double kStateResolution =
+      0.5 * std::numeric_limits<Real>::epsilon() *
+      (std::numeric_limits<Real>::epsilon() / std::numeric_limits<double>::epsilon());
+  const auto wide_model = in_double(model);
+  const Conversion<double> wide_conv = in_double(conv);
+  const VertexTerms<double> terms = in_double(vd.terms);
   return exec.reduce(
       stream, n, DESCENT_LAMBDA(index_t i)->Sum2 {
         Sum2 s;
         if (i < num_tets) {
-          const TetCorners<Real> c = tet_corners(q, tets, i);
+          const TetCorners<double> c = in_double(tet_corners(q, tets, i));
+          const TetRest<double> r = in_double(rest[i]);
           double e;
           if (Converting)
-            e = converted_energy(model, conv, interpolant[i], rest[i], c);
+            e = converted_energy(wide_model, wide_conv, static_cast<double>(interpolant[i]), r, c);
           else
-            e = element_energy(model, rest[i], c);
+            e = element_energy(wide_model, r, c);
           s.value = e;
           s.magnitude = e < 0 ? -e : e;
         }
@@ -437,9 +455,13 @@ Sum2 local_energy(Exec& exec, int stream, const Model& model, const Conversion<R
           for (int axis = 0; axis < 3; ++axis) {
             const std::int64_t k = 3 * static_cast<std::int64_t>(i) + axis;
             const double term =
-                dof_energy(vd.terms, vd.mass[i], q[k], vd.y[k], vd.qt[k], vd.force[k], axis);
+                dof_energy<double>(terms, vd.mass[i], q[k], vd.y[k], vd.qt[k], vd.force[k], axis);
             s.value += term;
             s.magnitude += term < 0 ? -term : term;
+            if (!held(vd.fixed, k)) {
+              const double qk = q[k];
+              s.magnitude += kStateResolution * static_cast<double>(curvature[k]) * qk * qk;
+            }
           }
         }
         return s;

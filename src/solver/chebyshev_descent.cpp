@@ -324,7 +324,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
                                     ? chebyshev_error_bound(schedule.phi, chebyshev_k) *
                                           (history.restart_energy() - check.checked_energy())
                                     : 0.0;
-    const EnergyCheck::Verdict verdict = check.judge<Real>(sums, stats, allowed_rise);
+    const EnergyCheck::Verdict verdict = check.judge(sums, stats, allowed_rise);
     if (history.empty()) history.restart(stats.initial_energy);
     if (verdict == EnergyCheck::Verdict::accepted) {
       momentum_reset = false;

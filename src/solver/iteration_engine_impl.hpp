@@ -64,6 +64,7 @@ class EngineImpl final : public IterationEngine<Real> {
     fixed_ =
         constant(problem.fixed_axes().data(), problem.fixed_axes().size(), memory_.vertex_bytes);
     floor_ = constant(problem.diagonal_floor().data(), n3_, memory_.vertex_bytes);
+    rest_curvature_ = constant(problem.rest_curvature().data(), n3_, memory_.vertex_bytes);
     for (Array<Real>* a : {&force_, &y_, &qt_, &checked_, &diag_, &q_[0], &q_[1], &q_[2]})
       *a = make<Real>(n3_, memory_.vertex_bytes);
     partial_ = make<Real>(2 * n3_, memory_.vertex_bytes);
@@ -153,23 +154,24 @@ class EngineImpl final : public IterationEngine<Real> {
     const loops::VertexData<Real> vd = vertex_data();
     const Sum2 s = std::visit(
         [&](const auto& model) {
-          return converting_ ? loops::local_energy<true>(exec_, kMain, model, conversion_,
-                                                         interpolant_.data(), q, tets_.data(),
-                                                         rest_.data(), nt_, vd, owned_)
-                             : loops::local_energy<false>(exec_, kMain, model, conversion_,
-                                                          interpolant_.data(), q, tets_.data(),
-                                                          rest_.data(), nt_, vd, owned_);
+          return converting_
+                     ? loops::local_energy<true>(exec_, kMain, model, conversion_,
+                                                 interpolant_.data(), q, tets_.data(), rest_.data(),
+                                                 nt_, vd, rest_curvature_.data(), owned_)
+                     : loops::local_energy<false>(
+                           exec_, kMain, model, conversion_, interpolant_.data(), q, tets_.data(),
+                           rest_.data(), nt_, vd, rest_curvature_.data(), owned_);
         },
         model_);
     Energy e{s.value, s.magnitude};
     if (contact_.num_vertices > 0) {
       const Sum2 c = loops::contact_energy(exec_, kMain, contact_, q, qt_.data());
-      e = {e.value + c.value, e.magnitude + c.magnitude};
+      e = {e.value + c.value, e.magnitude + in_double_units<Real>(c.magnitude)};
     }
     if (bodies_) {
       exec_.sync(kMain);
       const double pairs = bodies_->local_energy(q);
-      e = {e.value + pairs, e.magnitude + pairs};
+      e = {e.value + pairs, e.magnitude + in_double_units<Real>(std::abs(pairs))};
     }
     return e;
   }
@@ -603,7 +605,7 @@ class EngineImpl final : public IterationEngine<Real> {
   Array<index_t> tets_, corner_ids_, offsets_;
   Array<TetRest<Real>> rest_;
   Array<Real> interpolant_, corner_grad_, corner_diag_;
-  Array<Real> mass_, floor_, force_, y_, qt_, checked_, diag_, partial_;
+  Array<Real> mass_, floor_, rest_curvature_, force_, y_, qt_, checked_, diag_, partial_;
   Array<std::uint8_t> fixed_;
   Array<Real> q_[3];
   Array<Real> lanczos_[4];           // v, v_prev, w, y: made at the first estimate

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <variant>
 
 #include "common/error.hpp"
@@ -101,7 +102,8 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   for (index_t t = 0; t < nt; ++t) volume[0] += rest_[t].volume;
   reduction_.sum_in_place(volume);
   const double mu = scene.material.young / (2 * (1 + scene.material.poisson));
-  energy_noise_floor_ = kRestRoundoff * std::numeric_limits<Real>::epsilon() * mu * volume[0];
+  // The elastic terms are evaluated in double (loops::local_energy).
+  energy_noise_floor_ = kRestRoundoff * std::numeric_limits<double>::epsilon() * mu * volume[0];
   std::vector<Real> mass3(3 * static_cast<std::size_t>(nv));
   HostExec host;
   loops::gather_corners(host, 0, mesh.corner_offsets.data(), mesh.vertex_corners.data(), 0, nv,
@@ -151,21 +153,35 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   // Floor of the diagonal: the mass term in dynamics; without inertia, a
   // small fraction of the rest stiffness, so d stays positive where a model's
   // curvature is not.
-  diagonal_floor_.resize(3 * static_cast<std::size_t>(nv));
-  std::vector<Real> rest_diagonal;
-  if (!dynamic || !scene.obstacles.empty() || has_body_contact(scene)) {
+  const std::size_t n3 = 3 * static_cast<std::size_t>(nv);
+  diagonal_floor_.resize(n3);
+  rest_curvature_.resize(n3);
+  // The elastic diagonal at rest: statics and contact need it; a double run
+  // in dynamics does not (its states resolve far below the round-off of its
+  // terms, so the inertia alone bounds rest_curvature_ well enough) and skips
+  // the pass and its corner memory.
+  std::vector<Real> rest_diagonal(n3, Real(0));  // elastic only
+  if (!dynamic || !scene.obstacles.empty() || has_body_contact(scene) ||
+      !std::is_same_v<Real, double>) {
     const std::vector<Real> rest(x.begin(), x.end());
     const Assembled at_rest = elastic_gradient(rest.data(), true);
-    rest_diagonal.resize(3 * static_cast<std::size_t>(nv));
     for (index_t v = 0; v < nv; ++v)
       for (int i = 0; i < 3; ++i)
         rest_diagonal[3 * v + i] = at_rest.values[at_rest.width * v + 3 + i];
+    // The pass's corner values go: a method that needs them allocates them
+    // again (element_pass); a run on the engine never does.
+    std::vector<Real>().swap(corner_grad_);
+    std::vector<Real>().swap(corner_diag_);
   }
   constexpr Real kRestStiffnessFraction = Real(1e-3);
-  for (index_t v = 0; v < nv; ++v)
-    for (int i = 0; i < 3; ++i)
-      diagonal_floor_[3 * v + i] = dynamic ? mass_[v] * (terms_.inv_h2 + terms_.damping_over_h)
-                                           : kRestStiffnessFraction * rest_diagonal[3 * v + i];
+  for (index_t v = 0; v < nv; ++v) {
+    const Real inertia = dynamic ? mass_[v] * (terms_.inv_h2 + terms_.damping_over_h) : Real(0);
+    for (int i = 0; i < 3; ++i) {
+      const std::size_t k = 3 * static_cast<std::size_t>(v) + i;
+      diagonal_floor_[k] = dynamic ? inertia : kRestStiffnessFraction * rest_diagonal[k];
+      rest_curvature_[k] = inertia + rest_diagonal[k];
+    }
+  }
   if (!scene.obstacles.empty())
     contact_ = std::make_unique<ObstacleContact<Real>>(mesh, scene, halo_, reduction_, mass_,
                                                        rest_diagonal, terms_.inv_h2);
@@ -305,15 +321,15 @@ Energy LocalProblem<Real>::local_energy(const Real* q, const Real* y, const Real
         return converting_
                    ? loops::local_energy<true>(host, 0, model, conversion_, interpolant_.data(), q,
                                                mesh_.tets.data(), rest_.data(), mesh_.num_tets(),
-                                               vd, mesh_.num_owned)
+                                               vd, rest_curvature_.data(), mesh_.num_owned)
                    : loops::local_energy<false>(host, 0, model, conversion_, interpolant_.data(), q,
                                                 mesh_.tets.data(), rest_.data(), mesh_.num_tets(),
-                                                vd, mesh_.num_owned);
+                                                vd, rest_curvature_.data(), mesh_.num_owned);
       },
       model_);
   if (!contact_) return {s.value, s.magnitude};
   const Energy contact = contact_->local_energy(q, qt);
-  return {s.value + contact.value, s.magnitude + contact.magnitude};
+  return {s.value + contact.value, s.magnitude + in_double_units<Real>(contact.magnitude)};
 }
 
 template <class Real>

@@ -47,6 +47,10 @@ class LocalProblem {
   const VertexTerms<Real>& vertex_terms() const { return terms_; }
   // Lower bound of the diagonal per dof (kernels/vertex.hpp, dof_diagonal).
   const std::vector<Real>& diagonal_floor() const { return diagonal_floor_; }
+  // The Hessian diagonal at rest per dof (elastic plus, in dynamics, the
+  // inertia's): weights the resolution of states in Real in the energy's
+  // magnitude (loops::local_energy).
+  const std::vector<Real>& rest_curvature() const { return rest_curvature_; }
   // External (surface-load) force per dof at the time of the current step.
   const std::vector<Real>& external_force() const { return external_force_; }
 
@@ -164,6 +168,7 @@ class LocalProblem {
   std::vector<int> motion_region_;    // per local vertex: fixed region moving it, or -1
   std::vector<Real> external_force_;  // 3 per local vertex
   std::vector<Real> diagonal_floor_;  // 3 per local vertex
+  std::vector<Real> rest_curvature_;  // 3 per local vertex
   std::vector<TetRest<Real>> rest_;
   std::vector<Real> mass_;
   std::vector<std::uint8_t> fixed_;

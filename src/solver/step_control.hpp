@@ -15,11 +15,10 @@
 namespace descent {
 
 // Round-off scale of an energy summed from terms of total magnitude
-// `magnitude`, each term evaluated in Real: a generous multiple of Real's
-// epsilon (the terms are summed in double).
-template <class Real>
-double energy_roundoff(double magnitude) {
-  return 1024 * std::numeric_limits<Real>::epsilon() * magnitude;
+// `magnitude` (Energy: terms evaluated and summed in double, whatever the
+// run's Real): a generous multiple of double's epsilon.
+inline double energy_roundoff(double magnitude) {
+  return 1024 * std::numeric_limits<double>::epsilon() * magnitude;
 }
 
 // Chebyshev weight (paper 1, Eq. 8) for the iteration `since_restart`
@@ -94,7 +93,6 @@ class EnergyCheck {
   // and records the check in `stats`; a non-finite trial is counted in
   // stats.nonfinite_rollbacks. A rise up to `allowed_rise` above the checked
   // energy is tolerated (0: every rise beyond round-off is rejected).
-  template <class Real>
   Verdict judge(const EnergySums& sums, StepStats& stats, double allowed_rise = 0) {
     if (count() == 2) {
       checked_energy_ = sums.energy[1].value;
@@ -107,8 +105,7 @@ class EnergyCheck {
     // A rise within the round-off of the energy's evaluation is no rise: near
     // the minimum it is noise, and reading it as a rise would shrink alpha
     // for nothing.
-    const double tolerance =
-        std::max(energy_roundoff<Real>(sums.energy[0].magnitude), noise_floor_);
+    const double tolerance = std::max(energy_roundoff(sums.energy[0].magnitude), noise_floor_);
     stats.energy_tolerance = tolerance;
     if (!sums.finite[0]) {
       ++stats.nonfinite_rollbacks;
@@ -124,9 +121,8 @@ class EnergyCheck {
   }
 
   // judge() without tolerated rises: true when the trial is accepted.
-  template <class Real>
   bool accept(const EnergySums& sums, StepStats& stats) {
-    return judge<Real>(sums, stats) == Verdict::accepted;
+    return judge(sums, stats) == Verdict::accepted;
   }
 
   double checked_energy() const { return checked_energy_; }

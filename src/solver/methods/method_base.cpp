@@ -127,7 +127,7 @@ typename MethodBase<Real>::Check MethodBase<Real>::check(int k, StepStats& stats
                            check_.reevaluate()
                                ? problem_.local_energy(q_checked_.data(), y_.data(), qt_.data())
                                : initial_local_energy_};
-  if (check_.accept<Real>(problem_.global_energies(local, check_.count()), stats)) {
+  if (check_.accept(problem_.global_energies(local, check_.count()), stats)) {
     q_checked_ = q_;
     // The accuracy target from the accepted checks' energies
     // (solver/check_history.hpp): with a bound as chebyshev reads it (before

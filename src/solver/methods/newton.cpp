@@ -137,8 +137,7 @@ void Newton<Real>::iterate(StepStats& stats) {
         energy = sums.energy[1].value;
         if (k == 0) stats.initial_energy = energy;
       }
-      const double tolerance =
-          1024 * std::numeric_limits<Real>::epsilon() * sums.energy[0].magnitude;
+      const double tolerance = energy_roundoff(sums.energy[0].magnitude);
       if (sums.finite[0] && sums.energy[0].value <= energy + 1e-4 * t * slope + tolerance) {
         energy = sums.energy[0].value;
         accepted = true;

@@ -1,0 +1,79 @@
+#pragma once
+// The same kernel data with its values widened to double: a float run's
+// energy checks evaluate eps in double from the float iterate, rest data and
+// material (issue 22, mixed precision). The energy then judged is a fixed
+// function of the float state, free of float's round-off: evaluated in
+// float, the terms' round-off (about 1e-4 of the energy's magnitude at the
+// checks' tolerance) hides a step's whole decrease on a body that moves
+// little, and the accuracy target could never be confirmed. For double data
+// each function returns a copy, so a double run computes what it did before.
+#include "kernels/arap.hpp"
+#include "kernels/conversion.hpp"
+#include "kernels/corotated.hpp"
+#include "kernels/element.hpp"
+#include "kernels/fung.hpp"
+#include "kernels/mooney_rivlin.hpp"
+#include "kernels/neo_hookean.hpp"
+#include "kernels/stvk.hpp"
+#include "kernels/vertex.hpp"
+
+namespace descent {
+
+template <class Real>
+DESCENT_HOST_DEVICE inline Vec3<double> in_double(const Vec3<Real>& v) {
+  return {v.x, v.y, v.z};
+}
+
+template <class Real>
+DESCENT_HOST_DEVICE inline Mat3<double> in_double(const Mat3<Real>& a) {
+  Mat3<double> wide;
+  for (int i = 0; i < 9; ++i) wide.m[i] = a.m[i];
+  return wide;
+}
+
+template <class Real>
+DESCENT_HOST_DEVICE inline TetCorners<double> in_double(const TetCorners<Real>& c) {
+  return {{in_double(c.x[0]), in_double(c.x[1]), in_double(c.x[2]), in_double(c.x[3])}};
+}
+
+template <class Real>
+DESCENT_HOST_DEVICE inline TetRest<double> in_double(const TetRest<Real>& rest) {
+  return {in_double(rest.dm_inv), rest.volume};
+}
+
+template <class Real>
+DESCENT_HOST_DEVICE inline VertexTerms<double> in_double(const VertexTerms<Real>& t) {
+  return {t.inv_h2, t.damping_over_h, {t.gravity[0], t.gravity[1], t.gravity[2]}};
+}
+
+// The material models, field by field.
+template <class Real>
+inline StVK<double> in_double(const StVK<Real>& m) {
+  return {m.mu, m.lambda};
+}
+template <class Real>
+inline NeoHookean<double> in_double(const NeoHookean<Real>& m) {
+  return {m.mu, m.kappa};
+}
+template <class Real>
+inline MooneyRivlin<double> in_double(const MooneyRivlin<Real>& m) {
+  return {in_double(m.neo_hookean), m.c2};
+}
+template <class Real>
+inline Fung<double> in_double(const Fung<Real>& m) {
+  return {in_double(m.neo_hookean), m.c2, m.c3};
+}
+template <class Real>
+inline Corotated<double> in_double(const Corotated<Real>& m) {
+  return {m.mu, m.lambda};
+}
+template <class Real>
+inline Arap<double> in_double(const Arap<Real>& m) {
+  return {m.mu};
+}
+template <class Real>
+inline Conversion<double> in_double(const Conversion<Real>& c) {
+  return {c.lambda_minus, c.lambda_plus, c.decay, in_double(c.arap)};
+}
+
+}  // namespace descent
