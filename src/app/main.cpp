@@ -115,7 +115,8 @@ int main_with_mpi(int argc, char** argv) {
   run->add_flag("--restart", restart,
                 "Continue the run in the output directory from its last checkpoint");
   run->add_option("--precision", precision,
-                  "Real type of the solver (default auto: float on a GPU, double on the CPU)")
+                  "Real type of the solver (default auto: double on the CPU; on a GPU float where "
+                  "solver.accuracy is 1e-3 or looser or 0, else double)")
       ->check(CLI::IsMember({"auto", "float", "double"}));
   run->add_option("--backend", backend.backend, "auto (cuda when a device is visible), cpu or cuda")
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}));

@@ -14,6 +14,7 @@
 #include "app/memory_report.hpp"
 #include "app/mesh_setup.hpp"
 #include "app/non_finite_stop.hpp"
+#include "app/precision_choice.hpp"
 #include "app/restart_checkpoint.hpp"
 #include "app/run_identity.hpp"
 #include "app/simulation.hpp"
@@ -102,9 +103,13 @@ int run_scene(MPI_Comm comm, const Scene& scene, const RunOptions& options) {
   const bool tell_note = backend.kind == BackendKind::cuda || asked_for_cuda;
   if (rank == 0 && !note.empty() && !options.quiet && tell_note) inform("%s", note.c_str());
   const bool on_gpu = backend.kind == BackendKind::cuda;
-  const bool use_float = options.precision == "float" || (options.precision == "auto" && on_gpu);
-  return use_float ? run_scene_in<float>(comm, scene, options, backend)
-                   : run_scene_in<double>(comm, scene, options, backend);
+  const PrecisionChoice precision =
+      choose_precision(options.precision, on_gpu, scene.solver.accuracy);
+  // On a GPU auto's choice depends on the target: say which it made.
+  const bool tell_precision = options.verbose || (on_gpu && options.precision == "auto");
+  if (rank == 0 && !options.quiet && tell_precision) inform("precision: %s", precision.why.c_str());
+  return precision.use_float ? run_scene_in<float>(comm, scene, options, backend)
+                             : run_scene_in<double>(comm, scene, options, backend);
 }
 
 namespace {
