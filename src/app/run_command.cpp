@@ -203,7 +203,7 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   int frames_run = 0;
   double total_ms = 0;
   long total_iterations = 0;
-  int stalled_steps = 0, retried_steps = 0;
+  int stalled_steps = 0, retried_steps = 0, resolution_limited_steps = 0;
   constexpr int kStallWarnings = 5;
   int nonfinite_steps = 0, nonfinite_warnings = 0;  // the latter on this rank
   const int checkpoint_every = scene.output.checkpoint_every;
@@ -267,6 +267,15 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
     if (warn_rollback && ++nonfinite_warnings <= kStallWarnings)
       warn_rolled_back(frame, rank, step.rejected_at);
     nonfinite_steps += step.nonfinite_rollbacks > 0 ? 1 : 0;
+    // Once per run: a target the precision cannot resolve costs every step
+    // until its energies stop changing; the user should hear why.
+    if (rank == 0 && step.at_resolution && ++resolution_limited_steps == 1)
+      warn(
+          "frame %d: the step's energy changes fell within round-off at an error estimate of "
+          "%.1e, above solver.accuracy = %g: the target lies below what %s resolves%s (counted "
+          "at the end)",
+          frame, step.error_estimate, scene.solver.accuracy, precision,
+          sizeof(Real) == 4 ? "; --precision double reaches it" : "");
     if (rank == 0 && step.finite && step.retried_from_start && ++retried_steps <= kStallWarnings)
       warn(
           "frame %d: the predicted initial guess (solver.init = \"%s\") led to no finite "
@@ -307,6 +316,9 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   }
   // The counts are of the frames this process ran (after a restart, not
   // those before it).
+  if (rank == 0 && resolution_limited_steps > 0)
+    warn("%d of %d steps ended at round-off above solver.accuracy = %g (%s)",
+         resolution_limited_steps, frames_run, scene.solver.accuracy, precision);
   if (rank == 0 && stalled_steps > 0)
     warn("%d of %d steps ended at alpha_min (column `stalled` in stats.csv)", stalled_steps,
          frames_run);

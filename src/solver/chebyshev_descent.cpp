@@ -348,6 +348,13 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
         stats.error_estimate = reading.estimate;
         if (target > 0 && (reading.far_below || (reading.below && chebyshev_k >= prior_iterations)))
           break;
+        // Past the bound's count with every change within round-off: more
+        // iterations cannot show progress (a float step at its floor for a
+        // target below it ran to the cap so), the step ends above its target.
+        if (target > 0 && reading.at_resolution && chebyshev_k >= prior_iterations) {
+          stats.at_resolution = true;
+          break;
+        }
       }
       continue;
     }

@@ -72,6 +72,11 @@ struct AccuracyReading {
   // below at the previous check too, and the predicted minimum settled
   // (the rule of methods without a bound).
   bool confirmed = false;
+  // The changes over the last two checks and over the last two wide windows
+  // all lie within the round-off `noise`: the energies resolve no more
+  // progress (a float step at its floor, a target below what the precision
+  // resolves), whatever the estimate says.
+  bool at_resolution = false;
 };
 
 class CheckHistory {
@@ -113,6 +118,7 @@ class CheckHistory {
     reading.below = now.below;
     reading.far_below =
         now.near <= kConfidentShare * target && now.wide <= kConfidentShare * target;
+    reading.at_resolution = within_noise(1, n, noise) && within_noise(kWideWindow, n, noise);
     if (now.below && n >= 2) {
       const Window before = window_at(initial_energy, phi, target, noise, n - 1);
       const double left = energy_[n - 1] - now.minimum;
@@ -143,18 +149,37 @@ class CheckHistory {
     return w;
   }
 
+  // The decreases d1, d2 over the last two windows of `window` checks
+  // before the n-th check; false when there are not two evenly spaced
+  // windows after the restart's first.
+  bool decreases(int window, std::size_t n, double& d1, double& d2, int& k1, int& k2) const {
+    const std::size_t w = static_cast<std::size_t>(window);
+    if (window < 1 || n < 2 * w + 2) return false;
+    const std::size_t i0 = n - 1 - 2 * w, i1 = n - 1 - w, i2 = n - 1;
+    if (k_[i2] - k_[i1] != k_[i1] - k_[i0]) return false;
+    d1 = energy_[i0] - energy_[i1];
+    d2 = energy_[i1] - energy_[i2];
+    k1 = k_[i1];
+    k2 = k_[i2];
+    return true;
+  }
+  bool within_noise(int window, std::size_t n, double noise) const {
+    double d1, d2;
+    int k1, k2;
+    return noise > 0 && decreases(window, n, d1, d2, k1, k2) && std::abs(d1) <= noise &&
+           std::abs(d2) <= noise;
+  }
+
   // eps_k - eps* at the n-th check (the first n recorded), NaN when unknown.
   double remaining(double phi, int window, std::size_t n, double noise = 0) const {
     const double unknown = std::numeric_limits<double>::quiet_NaN();
-    const std::size_t w = static_cast<std::size_t>(window);
-    if (window < 1 || n < 2 * w + 2) return unknown;
-    const std::size_t i0 = n - 1 - 2 * w, i1 = n - 1 - w, i2 = n - 1;
-    if (k_[i2] - k_[i1] != k_[i1] - k_[i0]) return unknown;
-    const double d1 = energy_[i0] - energy_[i1], d2 = energy_[i1] - energy_[i2];
+    double d1, d2;
+    int k1, k2;
+    if (!decreases(window, n, d1, d2, k1, k2)) return unknown;
     if (noise > 0 && std::abs(d1) <= noise && std::abs(d2) <= noise) return noise;
     if (!(d1 > 0 && d2 > 0)) return unknown;
     const double bound_ratio =
-        phi > 0 ? chebyshev_error_bound(phi, k_[i2]) / chebyshev_error_bound(phi, k_[i1]) : 0.0;
+        phi > 0 ? chebyshev_error_bound(phi, k2) / chebyshev_error_bound(phi, k1) : 0.0;
     const double r = std::max(d2 / d1, bound_ratio);  // per window
     if (!(r < 1)) return unknown;
     return d2 * r / (1 - r);

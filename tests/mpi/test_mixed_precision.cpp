@@ -7,6 +7,7 @@
 //     ran to the cap and read an error of ~0.1);
 //   - a float step at its minimum stops on the round-off reading too;
 //   - run past its floor, a float step rolls back no more than double;
+//   - given a target below its floor, a float step ends at its resolution;
 //   - every rank count stops within a check of one rank's count.
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -102,6 +103,32 @@ void expect_no_rollback_at_the_floor(const char* preconditioner) {
 TEST(MixedPrecision, AFloatStepPastItsFloorRollsBackNoMoreThanDouble) {
   expect_no_rollback_at_the_floor("jacobi");
   expect_no_rollback_at_the_floor("multilevel");
+}
+
+// A target below float's floor: the float step ends once its energies
+// resolve no more progress, long before the cap, says so (at_resolution)
+// and reads an error above the target; the double step reaches the target.
+TEST(MixedPrecision, ATargetBelowFloatsFloorEndsTheStepAtItsResolution) {
+  Scene scene = testing::small_helix_scene();
+  scene.solver.preconditioner = "jacobi";
+  MovingInFloat m(scene);
+  SolverSpec spec = m.scene.solver;
+  spec.accuracy = 1e-7;
+  spec.iterations = 3000;
+  const StepTrace in_float = m.trace(spec);
+  const StepTrace in_double = trace_step(MPI_COMM_WORLD, m.twin, spec);
+  const double e = relative_errors(in_float, m.energy_star).back();
+  if (world_rank() == 0)
+    std::printf("[ float jacobi ] target 1e-7: e = %.3e after %d iterations (estimated %.3e); "
+                "double: %d iterations\n",
+                e, in_float.stats.iterations, in_float.stats.error_estimate,
+                in_double.stats.iterations);
+  EXPECT_TRUE(in_float.stats.at_resolution);
+  EXPECT_LT(in_float.stats.iterations, spec.iterations / 4);
+  EXPECT_GT(in_float.stats.error_estimate, spec.accuracy);
+  EXPECT_GE(in_float.stats.error_estimate, e) << "the estimate does not claim more than float did";
+  EXPECT_FALSE(in_double.stats.at_resolution);
+  EXPECT_LT(in_double.stats.iterations, spec.iterations);
 }
 
 // Gravity off, at rest: the step starts at its minimum and every change is

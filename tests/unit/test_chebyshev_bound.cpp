@@ -223,6 +223,30 @@ TEST(CheckHistory, RoundOffChangesEndTheStep) {
   EXPECT_FALSE(rest.read(2.0, 0.0, target).below) << "without the round-off: no reading";
 }
 
+// A target below the round-off: the energies fall to where their changes
+// lie within it and stay there. The reading says so (at_resolution) once the
+// last two checks and the last two wide windows all changed within it, with
+// the estimate, noise over the fall, still above the target.
+TEST(CheckHistory, ChangesWithinRoundOffSayTheResolutionIsReached) {
+  const double noise = 1e-4, target = 1e-6;
+  CheckHistory h;
+  h.restart(10.0);
+  h.record(8, 5.0);
+  h.record(16, 4.0);
+  int k = 16;
+  for (int j = 0; j < 2 * kWideWindow; ++j) {
+    EXPECT_FALSE(h.read(10.0, 0.0, target, noise).at_resolution) << "check " << j;
+    h.record(k += 8, 4.0 + (j % 2 ? 0.4 : -0.4) * noise);
+  }
+  const AccuracyReading reading = h.read(10.0, 0.0, target, noise);
+  EXPECT_TRUE(reading.at_resolution);
+  EXPECT_FALSE(reading.below);
+  EXPECT_GT(reading.estimate, target);
+  h.record(k + 8, 4.0 - 3 * noise);  // a real decrease: progress again
+  EXPECT_FALSE(h.read(10.0, 0.0, target, noise).at_resolution);
+  EXPECT_FALSE(h.read(10.0, 0.0, target).at_resolution) << "without the round-off: never";
+}
+
 TEST(CheckHistory, NoEstimateWhileTheEnergyDoesNotFall) {
   const double phi = chebyshev_rate(0.5);
   CheckHistory h;
