@@ -53,19 +53,9 @@ for entry in "${scenes[@]}"; do
       cases+=(--case "${method}_$tol:method=$method accuracy=$tol iterations=$CAP")
     done
   done
-  out="$base/$name"
-  mkdir -p "$out"
-  cmd=($MPIEXEC -n 1 "$DESCENT" study "${args[@]}" "${TRUTH[@]}" --warmup "$WARMUP"
-       --frames "$FRAMES" --every 1 --repeats 1 "${cases[@]}" --study-out "$out")
-  machine "${cmd[*]}" > "$out/machine.txt"
-  "${cmd[@]}" > "$out/progress.log"
-  # The last record of each case and frame (the step's result, its e and
-  # iterations); the full traces (tens of MB for gd's 5000 iterations) are
-  # the command's to regenerate.
-  awk -F, 'NR == 1 { print; next }
-           { key = $2 "," $3; if (key != prev && last != "") print last; prev = key; last = $0 }
-           END { print last }' "$out/study.csv" > "$out/ends.csv"
-  rm "$out/study.csv"
+  study_ends "$base/$name" $MPIEXEC -n 1 "$DESCENT" study "${args[@]}" "${TRUTH[@]}" \
+    --warmup "$WARMUP" --frames "$FRAMES" --every 1 --repeats 1 "${cases[@]}" \
+    --study-out "$base/$name"
 done
 $PYTHON tools/accuracy_summary.py "$base" > "$base/table.md"
 cat "$base/table.md"

@@ -41,3 +41,19 @@ machine() {  # the machine beside every figure
     echo "command: $*"
   }
 }
+# Runs a `descent study` command with --study-out OUT, recording the machine
+# and its progress in OUT, and keeps of its study.csv only the last record of
+# each case and frame (ends.csv: the step's e, iterations and ms); the full
+# traces (tens of MB for long cases) are the command's to regenerate.
+#   study_ends OUT descent-study-command...
+study_ends() {
+  local out=$1
+  shift
+  mkdir -p "$out"
+  machine "$*" > "$out/machine.txt"
+  "$@" > "$out/progress.log"
+  awk -F, 'NR == 1 { print; next }
+           { key = $2 "," $3; if (key != prev && last != "") print last; prev = key; last = $0 }
+           END { print last }' "$out/study.csv" > "$out/ends.csv"
+  rm "$out/study.csv"
+}
