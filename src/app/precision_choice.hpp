@@ -13,7 +13,7 @@
 // float for targets of 1e-3 and looser, and for a fixed iteration budget (no
 // target: the paper's GPU setting). On the CPU float gained 1.0-1.6x on the
 // 9K helix (in cache), 1.3-1.4x on the 82K helix with the multilevel
-// preconditioner and 1.6-1.7x with Jacobi's: auto stays double there, the
+// preconditioner and 1.4-1.7x with Jacobi's: auto stays double there, the
 // precision every CPU test and figure was verified in, and --precision float
 // asks for the gain where the target allows it.
 #include <string>
