@@ -69,7 +69,11 @@ inline Corotated<double> in_double(const Corotated<Real>& m) {
 }
 template <class Real>
 inline Arap<double> in_double(const Arap<Real>& m) {
-  return {m.mu};
+  // Not `return {m.mu}`: nvcc's host pass rejects the one-member aggregate
+  // so (CUDA 13.0, g++ host compiler).
+  Arap<double> wide{};
+  wide.mu = m.mu;
+  return wide;
 }
 template <class Real>
 inline Conversion<double> in_double(const Conversion<Real>& c) {
