@@ -6,16 +6,14 @@
 // 9K helix and 8.6e-6 on the 82K helix with the energies judged in double,
 // so float met targets 1e-2 .. 1e-4 and not 1e-5. The floor rises for a body
 // that moves less per step (e is relative to the step's decrease), and a
-// step sees it only where its checks reach it (CheckHistory's
-// at_resolution); a multilevel step ends first, on an estimate that
-// extrapolates the float iteration's convergence past the floor. So auto
-// asks for a margin of about 100x:
-// float for targets of 1e-3 and looser, and for a fixed iteration budget (no
-// target: the paper's GPU setting). On the CPU float gained 1.0-1.6x on the
-// 9K helix (in cache), 1.3-1.4x on the 82K helix with the multilevel
-// preconditioner and 1.4-1.7x with Jacobi's: auto stays double there, the
-// precision every CPU test and figure was verified in, and --precision float
-// asks for the gain where the target allows it.
+// step learns it only where its checks reach it (CheckHistory's
+// at_resolution), after spending the iterations. So auto asks for a margin
+// of about 100x: float for targets of 1e-3 and looser, and for a fixed
+// iteration budget (no target: the paper's GPU setting). On the CPU float
+// gained 1.0-1.6x on the 9K helix (in cache), 1.3-1.4x on the 82K helix with
+// the multilevel preconditioner and 1.4-1.7x with Jacobi's: auto stays
+// double there, the precision every CPU test and figure was verified in, and
+// --precision float asks for the gain where the target allows it.
 #include <string>
 
 namespace descent {
