@@ -71,23 +71,28 @@ inline double kinetic_energy(MPI_Comm comm, const Simulation<double>& sim) {
 
 // `frames` steps of `scene` on `comm` and, on rank 0, the same on one rank.
 // On rank 0: the largest |q_P - q_1| and the largest |q_1 - rest| over all
-// coordinates; zeros on the other ranks.
+// coordinates, and each step's iterations on `comm` and on one rank; zeros
+// and empty counts on the other ranks.
 struct OneRankComparison {
   double worst = 0;
   double moved = 0;
+  std::vector<int> iterations, one_rank_iterations;
 };
 
-inline OneRankComparison compare_with_one_rank(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
-                                               int frames) {
-  Simulation<double> distributed(comm, scene, mesh);
-  for (int frame = 0; frame < frames; ++frame) distributed.step();
-  const std::vector<double> got = gather_positions(comm, distributed, mesh.num_vertices());
+template <class Real = double>
+OneRankComparison compare_with_one_rank(MPI_Comm comm, const Scene& scene, const Mesh& mesh,
+                                        int frames) {
   OneRankComparison c;
+  Simulation<Real> distributed(comm, scene, mesh);
+  for (int frame = 0; frame < frames; ++frame)
+    c.iterations.push_back(distributed.step().iterations);
+  const std::vector<double> got = gather_positions(comm, distributed, mesh.num_vertices());
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  if (rank != 0) return c;
-  Simulation<double> serial(MPI_COMM_SELF, scene, mesh);
-  for (int frame = 0; frame < frames; ++frame) serial.step();
+  if (rank != 0) return {};
+  Simulation<Real> serial(MPI_COMM_SELF, scene, mesh);
+  for (int frame = 0; frame < frames; ++frame)
+    c.one_rank_iterations.push_back(serial.step().iterations);
   const std::vector<double> want = gather_positions(MPI_COMM_SELF, serial, mesh.num_vertices());
   for (std::size_t k = 0; k < want.size(); ++k) {
     c.worst = std::max(c.worst, std::abs(got[k] - want[k]));

@@ -169,24 +169,14 @@ TEST(AutomaticChebyshev, RanksAgreeWithOneRankOnCountsAndPositions) {
   scene.solver.iterations = 2000;
   const Mesh mesh = build_scene_mesh(scene.mesh);
   constexpr int kFrames = 4;
-  Simulation<double> distributed(MPI_COMM_WORLD, scene, mesh);
-  std::vector<int> counts;
-  for (int f = 0; f < kFrames; ++f) counts.push_back(distributed.step().iterations);
-  const std::vector<double> got =
-      testing::gather_positions(MPI_COMM_WORLD, distributed, mesh.num_vertices());
+  const testing::OneRankComparison c =
+      testing::compare_with_one_rank(MPI_COMM_WORLD, scene, mesh, kFrames);
   if (world_rank() != 0) return;
-  Simulation<double> serial(MPI_COMM_SELF, scene, mesh);
-  for (int f = 0; f < kFrames; ++f)
-    EXPECT_EQ(serial.step().iterations, counts[f]) << "frame " << f + 1;
-  const std::vector<double> want =
-      testing::gather_positions(MPI_COMM_SELF, serial, mesh.num_vertices());
-  double worst = 0;
-  for (std::size_t k = 0; k < want.size(); ++k) worst = std::max(worst, std::abs(got[k] - want[k]));
-  const double diagonal = testing::bounding_box_diagonal(mesh);
-  EXPECT_LE(worst, 1e-9 * diagonal);
+  EXPECT_EQ(c.iterations, c.one_rank_iterations);
+  EXPECT_LE(c.worst, 1e-9 * testing::bounding_box_diagonal(mesh));
   std::printf("[ automatic ] %d ranks vs 1 with accuracy 1e-3: counts", testing::world_size());
-  for (int c : counts) std::printf(" %d", c);
-  std::printf(", max |q_P - q_1| = %.3g\n", worst);
+  for (int k : c.iterations) std::printf(" %d", k);
+  std::printf(", max |q_P - q_1| = %.3g\n", c.worst);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include "app/scene_mesh.hpp"
 #include "app/simulation.hpp"
 #include "app/study_trace.hpp"
+#include "gather_positions.hpp"
 #include "small_scenes.hpp"
 #include "world_rank.hpp"
 
@@ -159,16 +160,13 @@ TEST(MixedPrecision, RanksStopWithinACheckOfOneRank) {
   scene.solver.accuracy = 1e-3;
   scene.solver.iterations = 3000;
   const Mesh mesh = build_scene_mesh(scene.mesh);
-  constexpr int kFrames = 3;
-  Simulation<float> distributed(MPI_COMM_WORLD, scene, mesh);
-  std::vector<int> counts;
-  for (int f = 0; f < kFrames; ++f) counts.push_back(distributed.step().iterations);
+  const testing::OneRankComparison c =
+      testing::compare_with_one_rank<float>(MPI_COMM_WORLD, scene, mesh, 3);
   if (world_rank() != 0) return;
-  Simulation<float> serial(MPI_COMM_SELF, scene, mesh);
-  for (int f = 0; f < kFrames; ++f) {
-    const int one = serial.step().iterations;
-    EXPECT_LT(counts[f], scene.solver.iterations) << "frame " << f + 1;
-    EXPECT_LE(std::abs(counts[f] - one), scene.solver.check_interval) << "frame " << f + 1;
+  for (std::size_t f = 0; f < c.iterations.size(); ++f) {
+    EXPECT_LT(c.iterations[f], scene.solver.iterations) << "frame " << f + 1;
+    EXPECT_LE(std::abs(c.iterations[f] - c.one_rank_iterations[f]), scene.solver.check_interval)
+        << "frame " << f + 1;
   }
 }
 
