@@ -267,15 +267,16 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
     if (warn_rollback && ++nonfinite_warnings <= kStallWarnings)
       warn_rolled_back(frame, rank, step.rejected_at);
     nonfinite_steps += step.nonfinite_rollbacks > 0 ? 1 : 0;
-    // Once per run: a target the precision cannot resolve costs every step
-    // until its energies stop changing; the user should hear why.
-    if (rank == 0 && step.at_resolution && ++resolution_limited_steps == 1)
+    // A float step that ends at round-off above its target could reach it in
+    // double: warned once. In double it is a body that barely moved this
+    // step (the target is relative to the step's decrease): counted below.
+    resolution_limited_steps += step.at_resolution ? 1 : 0;
+    if (rank == 0 && sizeof(Real) == 4 && step.at_resolution && resolution_limited_steps == 1)
       warn(
-          "frame %d: the step's energy changes fell within round-off at an error estimate of "
-          "%.1e, above solver.accuracy = %g: the target lies below what %s resolves%s (counted "
-          "at the end)",
-          frame, step.error_estimate, scene.solver.accuracy, precision,
-          sizeof(Real) == 4 ? "; --precision double reaches it" : "");
+          "frame %d: the step's energy changes fell within float's round-off with its error "
+          "estimate at %.1e, short of solver.accuracy = %g (a step ends below half of it); "
+          "--precision double resolves more (counted at the end)",
+          frame, step.error_estimate, scene.solver.accuracy);
     if (rank == 0 && step.finite && step.retried_from_start && ++retried_steps <= kStallWarnings)
       warn(
           "frame %d: the predicted initial guess (solver.init = \"%s\") led to no finite "
@@ -316,9 +317,12 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   }
   // The counts are of the frames this process ran (after a restart, not
   // those before it).
-  if (rank == 0 && resolution_limited_steps > 0)
-    warn("%d of %d steps ended at round-off above solver.accuracy = %g (%s)",
-         resolution_limited_steps, frames_run, scene.solver.accuracy, precision);
+  if (talk && resolution_limited_steps > 0)
+    inform(
+        "%d of %d steps ended with their energy changes within %s's round-off, their error "
+        "estimates short of solver.accuracy = %g (a step whose body barely moves has little "
+        "decrease to resolve its target against)",
+        resolution_limited_steps, frames_run, precision, scene.solver.accuracy);
   if (rank == 0 && stalled_steps > 0)
     warn("%d of %d steps ended at alpha_min (column `stalled` in stats.csv)", stalled_steps,
          frames_run);

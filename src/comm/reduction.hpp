@@ -20,7 +20,8 @@ struct Energy {
 };
 
 // The magnitude of terms evaluated in Real, in Energy::magnitude's units:
-// weighted by Real's epsilon over double's (2^29 for float's contact terms).
+// weighted by Real's epsilon over double's (2^29 for a float run's
+// body-contact pairs).
 template <class Real>
 double in_double_units(double magnitude) {
   return magnitude *

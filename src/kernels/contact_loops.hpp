@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "kernels/execution.hpp"
+#include "kernels/in_double.hpp"
 #include "kernels/loops.hpp"
 #include "kernels/obstacle_contact.hpp"
 
@@ -153,13 +154,26 @@ void add_contact_blocks(Exec& exec, int stream, ContactView<Real> c, const std::
 }
 
 // This rank's contact energy at x over its owned surface vertices, with
-// magnitudes (every term is >= 0).
+// magnitudes (every term is >= 0). Evaluated in double whatever Real, as
+// loops::local_energy's terms are (kernels/in_double.hpp): a float run's
+// checks judge a resting body's barrier free of float's round-off too. The
+// terms are vertex_contact's, obstacle by obstacle in its order, so a double
+// run sums them as it did before.
 template <class Exec, class Real>
 Sum2 contact_energy(Exec& exec, int stream, ContactView<Real> c, const Real* x, const Real* qt) {
   return exec.reduce(
       stream, c.num_owned, DESCENT_LAMBDA(index_t s)->Sum2 {
-        const double e = contact_terms(c, s, x, qt, false).energy;
-        return {e, e};
+        const std::int64_t v = c.vertices[s];
+        const double xs[3] = {x[3 * v], x[3 * v + 1], x[3 * v + 2]};
+        const double ts[3] = {qt[3 * v], qt[3 * v + 1], qt[3 * v + 2]};
+        const FrictionLag<Real>* lags = c.lags + static_cast<std::int64_t>(c.num_obstacles) * s;
+        ContactTerms<double> terms;
+        for (int k = 0; k < c.num_obstacles; ++k) {
+          add_barrier(in_double(c.obstacles[k]), static_cast<double>(c.kappa[s]),
+                      static_cast<double>(c.dh), xs, false, terms);
+          add_friction(in_double(lags[k]), static_cast<double>(c.eps_h), xs, ts, false, terms);
+        }
+        return {terms.energy, terms.energy};
       });
 }
 

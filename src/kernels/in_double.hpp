@@ -14,6 +14,7 @@
 #include "kernels/fung.hpp"
 #include "kernels/mooney_rivlin.hpp"
 #include "kernels/neo_hookean.hpp"
+#include "kernels/obstacle_contact.hpp"
 #include "kernels/stvk.hpp"
 #include "kernels/vertex.hpp"
 
@@ -78,6 +79,31 @@ inline Arap<double> in_double(const Arap<Real>& m) {
 template <class Real>
 inline Conversion<double> in_double(const Conversion<Real>& c) {
   return {c.lambda_minus, c.lambda_plus, c.decay, in_double(c.arap)};
+}
+
+template <class Real>
+DESCENT_HOST_DEVICE inline ObstacleGeometry<double> in_double(const ObstacleGeometry<Real>& o) {
+  ObstacleGeometry<double> wide;
+  wide.kind = o.kind;
+  for (int i = 0; i < 3; ++i) {
+    wide.a[i] = o.a[i];
+    wide.b[i] = o.b[i];
+    wide.shift[i] = o.shift[i];
+  }
+  wide.radius = o.radius;
+  for (int i = 0; i < 9; ++i) wide.rotation[i] = o.rotation[i];
+  return wide;
+}
+
+template <class Real>
+DESCENT_HOST_DEVICE inline FrictionLag<double> in_double(const FrictionLag<Real>& lag) {
+  FrictionLag<double> wide;
+  wide.mu_lambda = lag.mu_lambda;
+  for (int i = 0; i < 3; ++i) {
+    wide.n[i] = lag.n[i];
+    wide.w[i] = lag.w[i];
+  }
+  return wide;
 }
 
 }  // namespace descent

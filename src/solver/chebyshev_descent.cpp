@@ -350,7 +350,7 @@ StepStats ChebyshevDescent<Real>::step(BodyState<Real>& state) {
           break;
         // Past the bound's count with every change within round-off: more
         // iterations cannot show progress (a float step at its floor for a
-        // target below it ran to the cap so), the step ends above its target.
+        // target below it ran to the cap so), the step ends short of its target.
         if (target > 0 && reading.at_resolution && chebyshev_k >= prior_iterations) {
           stats.at_resolution = true;
           break;

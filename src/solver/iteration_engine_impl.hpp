@@ -166,7 +166,7 @@ class EngineImpl final : public IterationEngine<Real> {
     Energy e{s.value, s.magnitude};
     if (contact_.num_vertices > 0) {
       const Sum2 c = loops::contact_energy(exec_, kMain, contact_, q, qt_.data());
-      e = {e.value + c.value, e.magnitude + in_double_units<Real>(c.magnitude)};
+      e = {e.value + c.value, e.magnitude + c.magnitude};
     }
     if (bodies_) {
       exec_.sync(kMain);

@@ -329,7 +329,7 @@ Energy LocalProblem<Real>::local_energy(const Real* q, const Real* y, const Real
       model_);
   if (!contact_) return {s.value, s.magnitude};
   const Energy contact = contact_->local_energy(q, qt);
-  return {s.value + contact.value, s.magnitude + in_double_units<Real>(contact.magnitude)};
+  return {s.value + contact.value, s.magnitude + contact.magnitude};
 }
 
 template <class Real>

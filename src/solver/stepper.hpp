@@ -90,8 +90,8 @@ struct StepStats {
   // The relative error of eps the step's last check estimates it left
   // (solver.accuracy; NaN when the checks gave no estimate).
   double error_estimate = 0;
-  // The step ended because its energies resolved no more progress, with the
-  // estimate above the target (CheckHistory's at_resolution; Chebyshev).
+  // The step ended because its energies resolved no more progress, its
+  // estimate short of the target (CheckHistory's at_resolution; Chebyshev).
   bool at_resolution = false;
 };
 

@@ -5,7 +5,8 @@
 // rotated; barrier and lagged friction in both regimes); the friction's
 // majorant for the diagonal lies above it. Then the guard: no
 // guarded move of random size ever ends inside an obstacle, and a move that
-// needs no cut is left bit for bit.
+// needs no cut is left bit for bit. And the checks' contact energy of float
+// data is the double evaluation of that data (issue 22, mixed precision).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +14,9 @@
 #include <random>
 #include <vector>
 
+#include "kernels/contact_loops.hpp"
+#include "kernels/cpu/host_exec.hpp"
+#include "kernels/in_double.hpp"
 #include "kernels/obstacle_contact.hpp"
 
 namespace descent {
@@ -203,6 +207,66 @@ TEST(VertexContact, GradientAndExactHessianFromFiniteDifferences) {
                     1e-5)
               << "slip " << slip << " entry " << i << j;
       }
+    }
+  }
+}
+
+// A float run's checks judge the contact energy of its float state in
+// double (loops::contact_energy): equal to the double terms of the widened
+// float data to double's round-off, where float's own evaluation is off by
+// float's (~1e-7).
+TEST(ContactEnergy, FloatDataIsEvaluatedInDouble) {
+  std::mt19937 rng(5);
+  const float kappa = 50, dh = 0.01f, eps_h = 1e-3f;
+  for (double slip : {2e-4, 5e-3}) {
+    for (int trial = 0; trial < 10; ++trial) {
+      const VertexCase c = vertex_case(slip, rng);
+      std::vector<ObstacleGeometry<float>> obstacles;
+      std::vector<ObstacleGeometry<double>> wide_obstacles;
+      for (const ObstacleGeometry<double>& o : c.obstacles) {
+        ObstacleGeometry<float> f{};
+        f.kind = o.kind;
+        for (int i = 0; i < 3; ++i) {
+          f.a[i] = static_cast<float>(o.a[i]);
+          f.b[i] = static_cast<float>(o.b[i]);
+          f.shift[i] = static_cast<float>(o.shift[i]);
+        }
+        f.radius = static_cast<float>(o.radius);
+        for (int i = 0; i < 9; ++i) f.rotation[i] = static_cast<float>(o.rotation[i]);
+        obstacles.push_back(f);
+        wide_obstacles.push_back(in_double(f));
+      }
+      std::vector<FrictionLag<float>> lags;
+      std::vector<FrictionLag<double>> wide_lags;
+      for (const FrictionLag<double>& l : c.lags) {
+        FrictionLag<float> f{static_cast<float>(l.mu_lambda), {}, {}};
+        for (int i = 0; i < 3; ++i) {
+          f.n[i] = static_cast<float>(l.n[i]);
+          f.w[i] = static_cast<float>(l.w[i]);
+        }
+        lags.push_back(f);
+        wide_lags.push_back(in_double(f));
+      }
+      const std::vector<float> x(c.x.begin(), c.x.end()), xt(c.xt.begin(), c.xt.end());
+      const std::vector<double> wide_x(x.begin(), x.end()), wide_xt(xt.begin(), xt.end());
+      const index_t vertex = 0;
+      ContactView<float> view;
+      view.num_obstacles = 3;
+      view.obstacles = obstacles.data();
+      view.num_vertices = view.num_owned = 1;
+      view.vertices = &vertex;
+      view.kappa = &kappa;
+      view.lags = lags.data();
+      view.dh = dh;
+      view.eps_h = eps_h;
+      HostExec host;
+      const double got = loops::contact_energy(host, 0, view, x.data(), xt.data()).value;
+      const double want =
+          vertex_contact(wide_obstacles.data(), wide_lags.data(), 3, double(kappa), double(dh),
+                         double(eps_h), wide_x.data(), wide_xt.data(), false)
+              .energy;
+      ASSERT_GT(want, 0);
+      EXPECT_NEAR(got, want, 1e-14 * want) << "slip " << slip << " trial " << trial;
     }
   }
 }
