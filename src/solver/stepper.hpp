@@ -91,7 +91,7 @@ struct StepStats {
   // (solver.accuracy; NaN when the checks gave no estimate).
   double error_estimate = 0;
   // The step ended because its energies resolved no more progress, its
-  // estimate short of the target (CheckHistory's at_resolution; Chebyshev).
+  // estimate short of the target (CheckHistory's at_resolution).
   bool at_resolution = false;
 };
 

@@ -113,11 +113,12 @@ TEST(MixedPrecision, AFloatStepPastItsFloorRollsBackNoMoreThanDouble) {
 // A target below float's floor: the float step ends once its energies
 // resolve no more progress, long before the cap, says so (at_resolution)
 // and reads an error above the target; the double step reaches the target.
-TEST(MixedPrecision, ATargetBelowFloatsFloorEndsTheStepAtItsResolution) {
+void expect_end_at_resolution(const char* method) {
   Scene scene = testing::small_helix_scene();
   scene.solver.preconditioner = "jacobi";
   MovingInFloat m(scene);
   SolverSpec spec = m.scene.solver;
+  spec.method = method;
   spec.accuracy = 1e-7;
   spec.iterations = 3000;
   const StepTrace in_float = m.trace(spec);
@@ -125,15 +126,21 @@ TEST(MixedPrecision, ATargetBelowFloatsFloorEndsTheStepAtItsResolution) {
   const double e = relative_errors(in_float, m.energy_star).back();
   if (world_rank() == 0)
     std::printf(
-        "[ float jacobi ] target 1e-7: e = %.3e after %d iterations (estimated %.3e); "
+        "[ float %s ] target 1e-7: e = %.3e after %d iterations (estimated %.3e); "
         "double: %d iterations\n",
-        e, in_float.stats.iterations, in_float.stats.error_estimate, in_double.stats.iterations);
+        method, e, in_float.stats.iterations, in_float.stats.error_estimate,
+        in_double.stats.iterations);
   EXPECT_TRUE(in_float.stats.at_resolution);
   EXPECT_LT(in_float.stats.iterations, spec.iterations / 4);
   EXPECT_GT(in_float.stats.error_estimate, spec.accuracy);
   EXPECT_GE(in_float.stats.error_estimate, e) << "the estimate does not claim more than float did";
   EXPECT_FALSE(in_double.stats.at_resolution);
   EXPECT_LT(in_double.stats.iterations, spec.iterations);
+}
+
+TEST(MixedPrecision, ATargetBelowFloatsFloorEndsTheStepAtItsResolution) {
+  expect_end_at_resolution("chebyshev");
+  expect_end_at_resolution("nesterov");
 }
 
 // Gravity off, at rest: the step starts at its minimum and every change is

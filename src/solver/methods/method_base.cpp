@@ -141,12 +141,17 @@ typename MethodBase<Real>::Check MethodBase<Real>::check(int k, StepStats& stats
         history_.read(stats.initial_energy, phi, target, stats.energy_tolerance);
     stats.error_estimate = reading.estimate;
     if (target > 0) {
+      const bool past_bound =
+          phi <= 0 || since_restart >= chebyshev_iterations_for(phi, kTargetShare * target);
       const bool met =
-          phi > 0 ? reading.far_below ||
-                        (reading.below &&
-                         since_restart >= chebyshev_iterations_for(phi, kTargetShare * target))
-                  : reading.confirmed;
+          phi > 0 ? reading.far_below || (reading.below && past_bound) : reading.confirmed;
       if (met) return Check::converged;
+      // Every change within round-off: more iterations cannot show progress
+      // (as chebyshev_descent.cpp ends such a step).
+      if (reading.at_resolution && past_bound) {
+        stats.at_resolution = true;
+        return Check::converged;
+      }
     }
     return Check::accepted;
   }
