@@ -10,8 +10,9 @@
 // at_resolution), after spending the iterations. So auto asks for a margin
 // of about 100x: float for targets of 1e-3 and looser, and for a fixed
 // iteration budget (no target: the paper's GPU setting). On the CPU float
-// gained 1.0-1.6x on the 9K helix (in cache), 1.3-1.4x on the 82K helix with
-// the multilevel preconditioner and 1.4-1.7x with Jacobi's: auto stays
+// gained 1.0-1.6x on the 9K helix (in cache), 1.37x on the 82K helix with
+// the multilevel preconditioner at 1e-2 (0.7x at 1e-3, where its steps end
+// at round-off late: docs/cpu.md) and 1.4-1.7x with Jacobi's: auto stays
 // double there, the precision every CPU test and figure was verified in, and
 // --precision float asks for the gain where the target allows it.
 #include <string>
