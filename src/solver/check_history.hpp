@@ -155,39 +155,39 @@ class CheckHistory {
   }
 
   // The decreases d1, d2 over the last two windows of `window` checks
-  // before the n-th check; false when there are not two evenly spaced
-  // windows after the restart's first.
-  bool decreases(int window, std::size_t n, double& d1, double& d2, int& k1, int& k2) const {
+  // before the n-th check, ending at iterations k1 and k2; known is false
+  // when there are not two evenly spaced windows after the restart's first.
+  struct Decreases {
+    bool known = false;
+    double d1 = 0, d2 = 0;
+    int k1 = 0, k2 = 0;
+  };
+  Decreases decreases(int window, std::size_t n) const {
     const std::size_t w = static_cast<std::size_t>(window);
-    if (window < 1 || n < 2 * w + 2) return false;
+    if (window < 1 || n < 2 * w + 2) return {};
     const std::size_t i0 = n - 1 - 2 * w, i1 = n - 1 - w, i2 = n - 1;
-    if (k_[i2] - k_[i1] != k_[i1] - k_[i0]) return false;
-    d1 = energy_[i0] - energy_[i1];
-    d2 = energy_[i1] - energy_[i2];
-    k1 = k_[i1];
-    k2 = k_[i2];
-    return true;
+    if (k_[i2] - k_[i1] != k_[i1] - k_[i0]) return {};
+    return {true, energy_[i0] - energy_[i1], energy_[i1] - energy_[i2], k_[i1], k_[i2]};
+  }
+  static bool within(const Decreases& d, double noise) {
+    return noise > 0 && d.known && std::abs(d.d1) <= noise && std::abs(d.d2) <= noise;
   }
   bool within_noise(int window, std::size_t n, double noise) const {
-    double d1, d2;
-    int k1, k2;
-    return noise > 0 && decreases(window, n, d1, d2, k1, k2) && std::abs(d1) <= noise &&
-           std::abs(d2) <= noise;
+    return within(decreases(window, n), noise);
   }
 
   // eps_k - eps* at the n-th check (the first n recorded), NaN when unknown.
   double remaining(double phi, int window, std::size_t n, double noise = 0) const {
     const double unknown = std::numeric_limits<double>::quiet_NaN();
-    double d1, d2;
-    int k1, k2;
-    if (!decreases(window, n, d1, d2, k1, k2)) return unknown;
-    if (noise > 0 && std::abs(d1) <= noise && std::abs(d2) <= noise) return noise;
-    if (!(d1 > 0 && d2 > 0)) return unknown;
+    const Decreases d = decreases(window, n);
+    if (!d.known) return unknown;
+    if (within(d, noise)) return noise;
+    if (!(d.d1 > 0 && d.d2 > 0)) return unknown;
     const double bound_ratio =
-        phi > 0 ? chebyshev_error_bound(phi, k2) / chebyshev_error_bound(phi, k1) : 0.0;
-    const double r = std::max(d2 / d1, bound_ratio);  // per window
+        phi > 0 ? chebyshev_error_bound(phi, d.k2) / chebyshev_error_bound(phi, d.k1) : 0.0;
+    const double r = std::max(d.d2 / d.d1, bound_ratio);  // per window
     if (!(r < 1)) return unknown;
-    return d2 * r / (1 - r);
+    return d.d2 * r / (1 - r);
   }
   // The error left at the n-th check relative to the initial one; 0 where
   // the energies cannot tell the initial state from the minimum (all the
