@@ -38,14 +38,14 @@ double median(std::vector<double> v) {
 
 // Times and energies of `repeats` runs of one case from the current state.
 template <class Real>
-CaseResult measure_case(MPI_Comm comm, Simulation<Real>& sim, const LocalProblem<double>* measuring,
+CaseResult measure_case(MPI_Comm comm, Simulation<Real>& sim, const Simulation<double>* twin,
                         const std::string& label, const SolverSpec& spec, int repeats,
                         double energy_star) {
   CaseResult result;
   result.label = label;
   result.spec = spec;
   std::vector<StepTrace> runs;
-  for (int r = 0; r < repeats; ++r) runs.push_back(trace_step(comm, sim, spec, measuring));
+  for (int r = 0; r < repeats; ++r) runs.push_back(trace_step(comm, sim, spec, twin));
   result.records = runs.front().records;
   result.stats = runs.front().stats;
   for (std::size_t k = 0; k < result.records.size(); ++k) {
@@ -158,7 +158,6 @@ void run_cases(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
   std::unique_ptr<Simulation<double>> twin;
   if constexpr (!std::is_same_v<Real, double>)
     twin = std::make_unique<Simulation<double>>(comm, scene, mesh);
-  const LocalProblem<double>* measuring = twin ? &twin->problem() : nullptr;
 
   const std::string csv = options.out_dir + "/study.csv";
   const std::string pareto = options.out_dir + "/pareto.csv";
@@ -208,7 +207,7 @@ void run_cases(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
         r.errors = relative_errors(star, energy_star);
         results.push_back(r);
       } else {
-        results.push_back(measure_case(comm, sim, measuring, options.cases[c].label, specs[c],
+        results.push_back(measure_case(comm, sim, twin.get(), options.cases[c].label, specs[c],
                                        options.repeats, energy_star));
       }
       const CaseResult& r = results.back();

@@ -57,43 +57,58 @@ Energy local_kinetic(const LocalProblem<Real>& problem, const Real* q, const Rea
   return {sum, sum};
 }
 
-// eps(q) and the kinetic energy of this rank, evaluated by `measuring` when
-// given (Real arrays converted to double), else by the stepper's own problem.
+// eps(q) and the kinetic energy of this rank, evaluated by the double
+// `twin` when given (a float iterate widened to double and measured in the
+// twin's problem: its held dofs, q_t and y = q_t + h v are the twin's, in
+// double), else by the stepper's own problem. The float run's own copies of
+// those differ from the twin's by float's rounding; the held positions'
+// half an ulp (6e-8 m at the helix's cap) moves eps linearly, by the cap's
+// reaction times the shift, which read as e = 1e-5 of a step's decrease
+// that no iteration can remove: a difference between the two problems, not
+// an error the step left.
 template <class Real>
 class LocalMeasure {
  public:
-  LocalMeasure(const LocalProblem<Real>& own, const LocalProblem<double>* measuring)
-      : own_(own), measuring_(measuring) {}
+  LocalMeasure(const LocalProblem<Real>& own, const Simulation<double>* twin)
+      : own_(own), twin_(twin) {
+    if (!twin_) return;
+    const BodyState<double>& start = twin_->state();
+    const double h = twin_->problem().dt();
+    t_next_ = start.time + h;
+    qt_ = start.q;
+    y_.resize(qt_.size());
+    for (std::size_t k = 0; k < y_.size(); ++k) y_[k] = start.q[k] + h * start.v[k];
+  }
 
   void operator()(const Real* q, const Real* y, const Real* qt, Energy out[2]) {
-    if (!measuring_) {
+    if (!twin_) {
       out[0] = own_.local_energy(q, y, qt);
       out[1] = local_kinetic(own_, q, qt);
       return;
     }
-    const std::size_t n = 3 * static_cast<std::size_t>(own_.num_vertices());
-    q_.assign(q, q + n);
-    y_.assign(y, y + n);
-    qt_.assign(qt, qt + n);
-    out[0] = measuring_->local_energy(q_.data(), y_.data(), qt_.data());
-    out[1] = local_kinetic(*measuring_, q_.data(), qt_.data());
+    const LocalProblem<double>& measuring = twin_->problem();
+    q_.assign(q, q + qt_.size());
+    measuring.hold_fixed(t_next_, q_.data());
+    out[0] = measuring.local_energy(q_.data(), y_.data(), qt_.data());
+    out[1] = local_kinetic(measuring, q_.data(), qt_.data());
   }
 
  private:
   const LocalProblem<Real>& own_;
-  const LocalProblem<double>* measuring_;
+  const Simulation<double>* twin_;
+  double t_next_ = 0;
   std::vector<double> q_, y_, qt_;
 };
 }  // namespace
 
 template <class Real>
 StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spec,
-                     const LocalProblem<double>* measuring) {
+                     const Simulation<double>* twin) {
   StepTrace trace;
   trace.spec = spec;
   EnergyReduction measure(comm);
   LocalProblem<Real>& problem = sim.problem();
-  LocalMeasure<Real> local_measure(problem, measuring);
+  LocalMeasure<Real> local_measure(problem, twin);
   std::unique_ptr<Stepper<Real>> stepper = make_stepper(problem, spec);
   StepMemory carried = carried_memory(sim.solver_spec(), sim.stepper().memory(), spec);
   // An automatic Chebyshev case with a preconditioner the warm-up did not
@@ -180,8 +195,8 @@ std::vector<double> relative_errors(const StepTrace& trace, double energy_star) 
 }
 
 template StepTrace trace_step(MPI_Comm, Simulation<double>&, const SolverSpec&,
-                              const LocalProblem<double>*);
+                              const Simulation<double>*);
 template StepTrace trace_step(MPI_Comm, Simulation<float>&, const SolverSpec&,
-                              const LocalProblem<double>*);
+                              const Simulation<double>*);
 
 }  // namespace descent

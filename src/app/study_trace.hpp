@@ -33,13 +33,14 @@ struct StepTrace {
   std::vector<IterationRecord> records;
 };
 
-// `measuring`: the problem whose eps the records evaluate (the simulation's
-// own when null). A float study measures with a double problem of the same
-// partition, so e_k shows the float iterates' accuracy, not float's
-// evaluation of eps.
+// `twin`: a double simulation of the same partition holding the same state,
+// whose problem the records evaluate (the simulation's own when null). A
+// float study measures so, with the twin's held positions, q_t and y, so e_k
+// shows the float iterates' accuracy in the double problem, not float's
+// evaluation of eps nor float's rounding of the problem's data.
 template <class Real>
 StepTrace trace_step(MPI_Comm comm, Simulation<Real>& sim, const SolverSpec& spec,
-                     const LocalProblem<double>* measuring = nullptr);
+                     const Simulation<double>* twin = nullptr);
 
 // e_k = (eps(q_k) - eps*) / (eps(q_0) - eps*) per record.
 std::vector<double> relative_errors(const StepTrace& trace, double energy_star);

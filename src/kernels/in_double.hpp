@@ -20,6 +20,12 @@
 
 namespace descent {
 
+// An energy evaluated and summed in double carries a round-off of this many
+// double epsilons per unit of its terms' magnitude (a generous multiple:
+// step_control.hpp's energy_roundoff). Quantities of another kind that join
+// the magnitude are divided by it (loops::local_energy's state resolution).
+constexpr double kRoundoffEpsilons = 1024;
+
 template <class Real>
 DESCENT_HOST_DEVICE inline Vec3<double> in_double(const Vec3<Real>& v) {
   return {v.x, v.y, v.z};

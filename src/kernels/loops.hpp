@@ -419,12 +419,21 @@ double inner_product(Exec& exec, int stream, index_t num_dofs, const Real* a, co
 // reduction over both (index i: tet i and owned vertex i), so a check waits
 // for the execution once.
 //
-// The magnitude also holds the resolution of states in Real: rounding a free
-// dof q_k to Real moves eps by up to 1/2 d_k (eps_Real q_k)^2, with d_k
-// `curvature` (3 per vertex, the Hessian diagonal at rest). A float iterate
-// near its minimum moves between such states from check to check; a rise of
-// that size is float's, not the descent's. Counted in double's units (the
-// magnitude's round-off is weighted by double's epsilon, comm/reduction.hpp).
+// The magnitude also holds the resolution of states in Real. Two states
+// each within one unit in the last place (at most eps_Real |q_k|) of a
+// third differ by up to two in each free dof, which changes eps by about
+// R = 1/2 sum_k d_k (2 eps_Real q_k)^2, with d_k `curvature` (3 per vertex,
+// the Hessian diagonal at rest). A float iterate at its floor moves between
+// such states from check to check: a change within R is float's, not the
+// descent's, and no error below R can be vouched for. Measured on the small
+// helix against Newton in double (tests/mpi/test_mixed_precision.cpp), the
+// floor lies at 0.1 R/4 with the multilevel preconditioner (the rounding of
+// the minimum, about R/48) and at 0.35-0.6 R/4 with Jacobi's and Nesterov,
+// whose updates below half a unit are lost. R is a bound already, so it
+// joins the magnitude divided by the round-off multiple (kRoundoffEpsilons
+// double epsilons per unit, kernels/in_double.hpp); multiplied by it, R
+// grew with the rest stiffness (as 1/dx^2) to above a 1e-3 target at 82K
+// tets.
 template <bool Converting, class Exec, class Real, class Model>
 Sum2 local_energy(Exec& exec, int stream, const Model& model, const Conversion<Real>& conv,
                   const Real* interpolant, const Real* q, const index_t* tets,
@@ -432,8 +441,9 @@ Sum2 local_energy(Exec& exec, int stream, const Model& model, const Conversion<R
                   const Real* curvature, index_t num_owned) {
   const index_t n = num_tets > num_owned ? num_tets : num_owned;
   constexpr double kStateResolution =
-      0.5 * std::numeric_limits<Real>::epsilon() *
-      (std::numeric_limits<Real>::epsilon() / std::numeric_limits<double>::epsilon());
+      2 * std::numeric_limits<Real>::epsilon() *
+      (std::numeric_limits<Real>::epsilon() / std::numeric_limits<double>::epsilon()) /
+      kRoundoffEpsilons;
   const auto wide_model = in_double(model);
   const Conversion<double> wide_conv = in_double(conv);
   const VertexTerms<double> terms = in_double(vd.terms);

@@ -177,17 +177,37 @@ class CheckHistory {
   }
 
   // eps_k - eps* at the n-th check (the first n recorded), NaN when unknown.
+  //
+  // Decreases within the round-off `noise` give no ratio of their own; the
+  // error left is then the tail of a decrease of at most the noise at the
+  // last ratio the energies resolved (the latest windows before n whose
+  // decreases both exceed it), or the noise itself where none did. A slow
+  // method's decreases fall below the noise while its error is still a few
+  // times it: Nesterov's float step on the small helix read half its error
+  // at the noise alone (tests/mpi/test_mixed_precision.cpp).
   double remaining(double phi, int window, std::size_t n, double noise = 0) const {
-    const double unknown = std::numeric_limits<double>::quiet_NaN();
     const Decreases d = decreases(window, n);
-    if (!d.known) return unknown;
-    if (within(d, noise)) return noise;
-    if (!(d.d1 > 0 && d.d2 > 0)) return unknown;
+    if (!d.known) return std::numeric_limits<double>::quiet_NaN();
+    if (!within(d, noise)) return tail(d, phi, d.d2);
+    for (std::size_t m = n - 1; m > 0; --m) {
+      const Decreases resolved = decreases(window, m);
+      if (!resolved.known) break;
+      if (resolved.d1 > noise && resolved.d2 > noise) {
+        const double left = tail(resolved, phi, noise);
+        return std::isnan(left) ? noise : left;
+      }
+    }
+    return noise;
+  }
+  // What is left after a decrease `last` at the ratio of the windows `d`
+  // (at least the bound's own, with a bound); NaN without a ratio below 1.
+  static double tail(const Decreases& d, double phi, double last) {
+    if (!(d.d1 > 0 && d.d2 > 0)) return std::numeric_limits<double>::quiet_NaN();
     const double bound_ratio =
         phi > 0 ? chebyshev_error_bound(phi, d.k2) / chebyshev_error_bound(phi, d.k1) : 0.0;
     const double r = std::max(d.d2 / d.d1, bound_ratio);  // per window
-    if (!(r < 1)) return unknown;
-    return d.d2 * r / (1 - r);
+    if (!(r < 1)) return std::numeric_limits<double>::quiet_NaN();
+    return last * r / (1 - r);
   }
   // The error left at the n-th check relative to the initial one; 0 where
   // the energies cannot tell the initial state from the minimum (all the

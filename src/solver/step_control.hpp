@@ -9,6 +9,7 @@
 
 #include "comm/reduction.hpp"
 #include "io/scene.hpp"
+#include "kernels/in_double.hpp"
 #include "solver/local_problem.hpp"
 #include "solver/stepper.hpp"
 
@@ -18,7 +19,7 @@ namespace descent {
 // `magnitude` (Energy: terms evaluated and summed in double, whatever the
 // run's Real): a generous multiple of double's epsilon.
 inline double energy_roundoff(double magnitude) {
-  return 1024 * std::numeric_limits<double>::epsilon() * magnitude;
+  return kRoundoffEpsilons * std::numeric_limits<double>::epsilon() * magnitude;
 }
 
 // Chebyshev weight (paper 1, Eq. 8) for the iteration `since_restart`
