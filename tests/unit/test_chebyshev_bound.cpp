@@ -247,6 +247,29 @@ TEST(CheckHistory, ChangesWithinRoundOffSayTheResolutionIsReached) {
   EXPECT_FALSE(h.read(10.0, 0.0, target).at_resolution) << "without the round-off: never";
 }
 
+// A slow descent whose decreases shrink by 0.8 a check until they fall
+// within the round-off: the error left is the tail of a decrease of the
+// round-off at that last resolved ratio, 0.8 / 0.2 = 4 noise, not the noise
+// alone (Nesterov's float step below its floor read half its error so).
+TEST(CheckHistory, WithinRoundOffTheErrorLeftIsTheTailAtTheLastResolvedRatio) {
+  const double noise = 1e-4, target = 1e-9;
+  CheckHistory h;
+  h.restart(10.0);
+  double energy = 5.0;
+  int k = 8;
+  h.record(k, energy);
+  for (int j = 0; j <= 10; ++j) h.record(k += 8, energy -= 1e-3 * std::pow(0.8, j));
+  ASSERT_GT(1e-3 * std::pow(0.8, 10), noise) << "the last decrease is resolved";
+  for (int j = 0; j < 2 * kWideWindow + 2; ++j)
+    h.record(k += 8, energy + (j % 2 ? -0.3 : 0.3) * noise);
+  const AccuracyReading reading = h.read(10.0, 0.0, target, noise);
+  EXPECT_TRUE(reading.at_resolution);
+  const double last = energy + (((2 * kWideWindow + 1) % 2) ? -0.3 : 0.3) * noise;
+  const double left = 4 * noise;
+  EXPECT_NEAR(reading.estimate, left / (10.0 - last + left), 1e-9);
+  EXPECT_GT(reading.estimate, 3 * noise / (10.0 - last + noise)) << "more than the noise alone";
+}
+
 TEST(CheckHistory, NoEstimateWhileTheEnergyDoesNotFall) {
   const double phi = chebyshev_rate(0.5);
   CheckHistory h;
