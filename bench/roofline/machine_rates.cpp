@@ -12,11 +12,11 @@
 //                            STREAM counts (3 words per element moved)
 //   peak_GFlops_double/float independent multiply-add chains (2 flops each),
 //                            no memory traffic
-//   ns_<op>_double/float     one core's time per call of sqrt and exp
-//                            (independent calls: a throughput), and per value
-//                            of a division and of the cube root (kernels/
-//                            cube_root.hpp) taken in lanes
-// The triad, the chains, the division and the cube root run in Lanes of the
+//   ns_<op>_double/float     one core's time per call of sqrt (independent
+//                            calls: a throughput), and per value of a
+//                            division, the cube root (kernels/cube_root.hpp)
+//                            and exp (kernels/exponential.hpp) taken in lanes
+// The triad, the chains, the division, the cube root and exp run in Lanes of the
 // build's vector width (kernels/cpu/lanes.hpp), as descent's element pass
 // does: the build has no automatic vectorisation (CMakeLists.txt says why).
 #include <mpi.h>
@@ -145,7 +145,8 @@ double ns_per_call(Op&& op) {
 }
 
 // One core's ns per value of an operation on lanes (as the element math
-// divides and takes cube roots: a block of tets per instruction).
+// divides and takes cube roots and exponentials: a block of tets per
+// instruction).
 template <class Real, class Op>
 double ns_per_lane_value(Op&& op) {
   using L = Lanes<Real, kLaneWidth<Real>>;
@@ -169,7 +170,7 @@ void print_rates(const char* name, std::size_t bytes, int ranks, int rank) {
   const double ns_sqrt = ns_per_call<Real>([](Real x) { return std::sqrt(x); });
   using L = Lanes<Real, kLaneWidth<Real>>;
   const double ns_cbrt = ns_per_lane_value<Real>([](L x) { return cube_root(x); });
-  const double ns_exp = ns_per_call<Real>([](Real x) { return std::exp(x); });
+  const double ns_exp = ns_per_lane_value<Real>([](L x) { return exponential(x); });
   const double ns_div = ns_per_lane_value<Real>([](L x) { return L(Real(1.5)) / x; });
   if (rank != 0) return;
   std::printf("triad_GBps_%s %.3f\npeak_GFlops_%s %.3f\n", name, triad, name, peak);

@@ -20,6 +20,7 @@
 #include <string>
 
 #include "kernels/cube_root.hpp"
+#include "kernels/exponential.hpp"
 
 namespace descent::roofline {
 
@@ -54,7 +55,7 @@ struct Counted {
 
   friend Counted sqrt(Counted a) { return ++counts.sqrt, Counted(std::sqrt(a.v)); }
   friend Counted cube_root(Counted a) { return ++counts.cbrt, Counted(descent::cube_root(a.v)); }
-  friend Counted exp(Counted a) { return ++counts.exp, Counted(std::exp(a.v)); }
+  friend Counted exponential(Counted a) { return ++counts.exp, Counted(descent::exponential(a.v)); }
   friend Counted abs(Counted a) { return ++counts.other, Counted(std::abs(a.v)); }
   friend Counted copysign(Counted a, Counted b) {
     return ++counts.other, Counted(std::copysign(a.v, b.v));

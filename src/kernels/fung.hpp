@@ -45,7 +45,7 @@ struct Fung {
     const Real j_m23 = Real(1) / (root_j * root_j);
     const Real i1 = ddot(f, f);
     Terms r;
-    r.g = c2 * exp(c3 * (j_m23 * i1 - Real(3)));
+    r.g = c2 * exponential(c3 * (j_m23 * i1 - Real(3)));
     const Real b = -Real(2) / Real(3) * i1 * j_m23 / j;
     for (int k = 0; k < 9; ++k) r.d.m[k] = Real(2) * j_m23 * f.m[k] + b * cof.m[k];
     r.stiffened = {neo_hookean.mu + Real(2) * r.g * c3, neo_hookean.kappa};
@@ -56,7 +56,7 @@ struct Fung {
     const Real j = det(f);
     const Real root_j = cube_root(j);
     const Real ibar1 = ddot(f, f) / (root_j * root_j);
-    return neo_hookean.energy(f) + c2 * (exp(c3 * (ibar1 - Real(3))) - Real(1));
+    return neo_hookean.energy(f) + c2 * (exponential(c3 * (ibar1 - Real(3))) - Real(1));
   }
 
   DESCENT_HOST_DEVICE Mat3<Real> stress(const Mat3<Real>& f) const {

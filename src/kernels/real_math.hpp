@@ -6,13 +6,13 @@
 // model computes per tet.
 #include <cmath>
 
-#include "kernels/cube_root.hpp"  // cube_root: vectorisable, in place of std::cbrt
+#include "kernels/cube_root.hpp"    // cube_root: vectorisable, in place of std::cbrt
+#include "kernels/exponential.hpp"  // exponential: vectorisable, in place of std::exp
 
 namespace descent {
 
 using std::abs;
 using std::copysign;
-using std::exp;
 using std::fmax;
 using std::frexp;
 using std::ldexp;
