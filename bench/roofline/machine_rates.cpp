@@ -16,8 +16,8 @@
 //                            calls: a throughput), and per value of a
 //                            division, the cube root (kernels/cube_root.hpp)
 //                            and exp (kernels/exponential.hpp) taken in lanes
-// The triad, the chains, the division, the cube root and exp run in Lanes of the
-// build's vector width (kernels/cpu/lanes.hpp), as descent's element pass
+// The triad, the chains, the division, the cube root and exp run in Lanes
+// of the build's vector width (kernels/cpu/lanes.hpp), as descent's element pass
 // does: the build has no automatic vectorisation (CMakeLists.txt says why).
 #include <mpi.h>
 #include <omp.h>

@@ -5,13 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
 
 #include "kernels/cpu/lanes.hpp"
 #include "kernels/cube_root.hpp"
+#include "lanes_against_scalar.hpp"
 
 namespace descent {
 namespace {
@@ -70,11 +70,6 @@ TEST(CubeRoot, DoubleSpecialValues) { special_values<double>(); }
 TEST(CubeRoot, FloatSpecialValues) { special_values<float>(); }
 
 template <class T>
-bool same_bits(T a, T b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-
-template <class T>
 void lanes_equal_scalar() {
   constexpr int kW = kLaneWidth<T>;
   std::vector<T> values = spread_values<T>(kW * 4000, 11);
@@ -87,20 +82,8 @@ void lanes_equal_scalar() {
                         std::numeric_limits<T>::max(),
                         std::numeric_limits<T>::min(),
                         T(1)};
-  std::mt19937_64 rng(3);
-  for (const T s : specials) values[rng() % values.size()] = s;
-  for (std::size_t i = 0; i < std::size(specials); ++i)
-    values[i] = specials[i];  // one block of them
-  for (std::size_t b = 0; b < values.size(); b += kW) {
-    Lanes<T, kW> x;
-    for (int l = 0; l < kW; ++l) x.v[l] = values[b + l];
-    const Lanes<T, kW> r = cube_root(x);
-    for (int l = 0; l < kW; ++l) {
-      const T expected = cube_root(values[b + l]);
-      ASSERT_TRUE(same_bits(r.v[l], expected) || (std::isnan(r.v[l]) && std::isnan(expected)))
-          << "x = " << values[b + l] << ": lanes " << r.v[l] << ", scalar " << expected;
-    }
-  }
+  const auto f = [](auto x) { return cube_root(x); };
+  testing::expect_lanes_equal_scalar(values, specials, f, f);
 }
 
 TEST(CubeRoot, DoubleLanesEqualScalar) { lanes_equal_scalar<double>(); }

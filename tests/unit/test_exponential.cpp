@@ -7,13 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
 
 #include "kernels/cpu/lanes.hpp"
 #include "kernels/exponential.hpp"
+#include "lanes_against_scalar.hpp"
 
 namespace descent {
 namespace {
@@ -75,11 +75,6 @@ TEST(Exponential, DoubleSpecialValues) { special_values<double>(); }
 TEST(Exponential, FloatSpecialValues) { special_values<float>(); }
 
 template <class T>
-bool same_bits(T a, T b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-
-template <class T>
 void lanes_equal_scalar() {
   using Steps = ExponentialSteps<T>;
   constexpr int kW = kLaneWidth<T>;
@@ -94,19 +89,8 @@ void lanes_equal_scalar() {
                         std::nextafter(Steps::kMaxArg, inf),
                         Steps::kMinArg,
                         std::nextafter(Steps::kMinArg, -inf)};
-  std::mt19937_64 rng(3);
-  for (const T s : specials) values[rng() % values.size()] = s;
-  for (std::size_t i = 0; i < std::size(specials); ++i) values[i] = specials[i];  // one block
-  for (std::size_t b = 0; b < values.size(); b += kW) {
-    Lanes<T, kW> x;
-    for (int l = 0; l < kW; ++l) x.v[l] = values[b + l];
-    const Lanes<T, kW> y = exponential(x);
-    for (int l = 0; l < kW; ++l) {
-      const T expected = exponential(values[b + l]);
-      ASSERT_TRUE(same_bits(y.v[l], expected) || (std::isnan(y.v[l]) && std::isnan(expected)))
-          << "x = " << values[b + l] << ": lanes " << y.v[l] << ", scalar " << expected;
-    }
-  }
+  const auto f = [](auto x) { return exponential(x); };
+  testing::expect_lanes_equal_scalar(values, specials, f, f);
 }
 
 TEST(Exponential, DoubleLanesEqualScalar) { lanes_equal_scalar<double>(); }

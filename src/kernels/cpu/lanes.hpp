@@ -8,9 +8,10 @@
 // are elementwise IEEE operations (and the build contracts none into a fused
 // multiply-add, -ffp-contract=off); cube_root and exponential run the
 // steps of kernels/cube_root.hpp and kernels/exponential.hpp on whole
-// vectors, and sqrt goes lane by lane through std's. Comparisons are deliberately absent: a model
-// that branches on a real cannot be instantiated on Lanes and keeps the
-// tet-by-tet loop (kernels/cpu/lane_models.hpp lists the models that can).
+// vectors, and sqrt goes lane by lane through std's. Comparisons are
+// deliberately absent: a model that branches on a real cannot be
+// instantiated on Lanes and keeps the tet-by-tet loop
+// (kernels/cpu/lane_models.hpp lists the models that can).
 //
 // Host only: nvcc's device code has its own parallelism (one tet per thread).
 #include <cmath>
