@@ -40,6 +40,7 @@ std::vector<std::string> scene_measurement_names(const Scene& scene) {
   if (has_body_contact(scene)) {
     names.push_back("body_contact_pairs");
     names.push_back("body_contact_least_distance");
+    if (scene.contact.method == "projection") names.push_back("body_contact_penetration");
   }
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     for (const char* a : xyz) names.push_back(detail::concat("body", b, "_com_", a));
@@ -233,10 +234,13 @@ std::vector<double> Simulation<Real>::measure() {
     const std::vector<double> c = contact->local_sums(state_.q.data());
     sums.insert(sums.end(), c.begin(), c.end());
   }
-  BodyContact<Real>* pairs = problem_.body_contact();
+  BodyContact<Real>* barrier = problem_.body_contact();
+  const BodyProjection<Real>* projection = problem_.body_projection();
+  const bool pairs = barrier || projection;
   const std::size_t pairs_at = sums.size();
-  const typename BodyContact<Real>::PairStats pair_stats =
-      pairs ? pairs->local_pair_stats(state_.q.data()) : typename BodyContact<Real>::PairStats{};
+  const PairStats pair_stats = barrier      ? barrier->local_pair_stats(state_.q.data())
+                               : projection ? projection->local_pair_stats()
+                                            : PairStats{};
   if (pairs) sums.push_back(pair_stats.pairs);
   sums.insert(sums.end(), pair_stats.force.begin(), pair_stats.force.end());
   const std::size_t bodies_at = sums.size();
@@ -268,6 +272,7 @@ std::vector<double> Simulation<Real>::measure() {
   if (pairs) {
     values.push_back(sums[pairs_at]);
     values.push_back(-reduction_.max_of(-pair_stats.least));
+    if (projection) values.push_back(reduction_.max_of(projection->local_penetration()));
   }
   for (std::size_t b = 0; b < scene_.bodies.size(); ++b) {
     const double* s = &sums[bodies_at + kBodySums * b];
@@ -283,6 +288,18 @@ std::vector<double> Simulation<Real>::measure() {
 
 template <class Real>
 std::string Simulation<Real>::body_contact_report(double step_ms) {
+  if (const BodyProjection<Real>* projection = problem_.body_projection()) {
+    const auto& s = projection->seconds();
+    const double total = s.search + s.sweeps;
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "contact between bodies (projection) %.1f%% of step time on rank 0 (%.1f ms of "
+                  "%.1f ms): pair search %.1f ms, sweeps %.1f ms; %ld step(s) ended with a pair "
+                  "not separated",
+                  step_ms > 0 ? 100 * 1e3 * total / step_ms : 0.0, 1e3 * total, step_ms,
+                  1e3 * s.search, 1e3 * s.sweeps, projection->unresolved_steps());
+    return text;
+  }
   const BodyContact<Real>* contact = problem_.body_contact();
   if (!contact) return {};
   const auto& s = contact->seconds();

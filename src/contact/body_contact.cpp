@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/error.hpp"
+#include "common/timed.hpp"
 #include "contact/contact_islands.hpp"
 #include "contact/contact_scale.hpp"
 #include "kernels/pair_contact.hpp"
@@ -13,21 +13,6 @@ namespace descent {
 namespace {
 
 double length(const double* d) { return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]); }
-
-// Adds the wall time of its scope to a counter.
-class Timed {
- public:
-  explicit Timed(double& seconds) : seconds_(seconds) {}
-  ~Timed() {
-    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-  Timed(const Timed&) = delete;
-  Timed& operator=(const Timed&) = delete;
-
- private:
-  double& seconds_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
 
 }  // namespace
 
@@ -49,37 +34,16 @@ BodyContact<Real>::BodyContact(const LocalMesh& mesh, const Scene& scene, Halo<R
         vertex_stiffness(scene, mass[v], inv_h2, &rest_diagonal[3 * static_cast<std::size_t>(v)]);
   // The mollifier's threshold of nearly parallel edges, IPC's 1e-3 |u|^2
   // |v|^2 with the mean surface edge for both (the same on every rank).
-  std::vector<double> edges(2, 0.0);
-  const auto& x = mesh.rest_positions;
-  for (index_t t = 0; t < mesh.num_tets(); ++t)
-    for (int f = 0; f < 4; ++f) {
-      if (!(mesh.surface_faces[t] & (1u << f))) continue;
-      for (int k = 0; k < 3; ++k) {
-        const std::size_t a = mesh.tets[4 * static_cast<std::size_t>(t) + kTetFaces[f][k]];
-        const std::size_t b =
-            mesh.tets[4 * static_cast<std::size_t>(t) + kTetFaces[f][(k + 1) % 3]];
-        const double d[3] = {x[3 * b] - x[3 * a], x[3 * b + 1] - x[3 * a + 1],
-                             x[3 * b + 2] - x[3 * a + 2]};
-        edges[0] += length(d);
-        edges[1] += 1;
-      }
-    }
-  reduction.sum_in_place(edges);
-  const double mean_edge = edges[1] > 0 ? edges[0] / edges[1] : 0.0;
+  const double mean_edge = mean_surface_edge(mesh, reduction);
   eps_ = 1e-3 * std::pow(mean_edge, 4);
   cap_ = dh_ + 0.5 * mean_edge;
 
   // Bodies may start closer than dh, never touching.
-  std::vector<Real> rest(x.begin(), x.end());
+  std::vector<Real> rest(mesh.rest_positions.begin(), mesh.rest_positions.end());
   halo_.rebuild(rest.data(), dh_, kappa_);
   pairs_ = find_contact_pairs(halo_, dh_, self_);
   track_from_here();
-  const double least = reduction.max_of(-local_pair_stats(rest.data()).least);
-  if (-least <= 0)
-    throw InputError(
-        "bodies touch at the start (a vertex on another body's surface, or two edges "
-        "meeting), where the contact barrier is infinite: leave a gap, below contact.distance = " +
-        std::to_string(dh_) + " m if they should rest on each other");
+  require_bodies_apart(-reduction.max_of(-local_pair_stats(rest.data()).least), dh_);
 }
 
 template <class Real>
@@ -463,7 +427,7 @@ void BodyContact<Real>::for_each_path(const std::vector<Real>& from, const std::
 }
 
 template <class Real>
-typename BodyContact<Real>::PairStats BodyContact<Real>::local_pair_stats(const Real* q) {
+PairStats BodyContact<Real>::local_pair_stats(const Real* q) {
   update_ghosts(q);
   PairStats stats;
   stats.force.assign(3 * static_cast<std::size_t>(mesh_.num_bodies()), 0.0);

@@ -108,12 +108,8 @@ class BodyContact {
   long paths_caught() const { return paths_caught_; }
   const Seconds& seconds() const { return seconds_; }
   // For the stats, at q: this rank's counted pairs within dh, the least
-  // distance of its pairs (1e300 without pairs), and per body (xyz each)
-  // the force the pairs put on its vertices that this rank owns.
-  struct PairStats {
-    double pairs = 0, least = 1e300;
-    std::vector<double> force;
-  };
+  // distance of its pairs, and per body the force the pairs put on its
+  // vertices that this rank owns.
   PairStats local_pair_stats(const Real* q);
 
  private:

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
+#include "common/error.hpp"
 #include "contact/spatial_hash.hpp"
 #include "kernels/primitive_distance.hpp"
 
@@ -150,6 +152,15 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
     std::sort(list->begin(), list->end(),
               [&](const auto& a, const auto& b) { return key(a) < key(b); });
   return pairs;
+}
+
+void require_bodies_apart(double least_distance, double dh) {
+  if (least_distance > 0) return;
+  throw InputError(
+      "bodies touch at the start (a vertex on another body's surface, or two edges meeting), "
+      "where the contact barrier is infinite and no contact plane is defined: leave a gap, "
+      "below contact.distance = " +
+      std::to_string(dh) + " m if they should rest on each other");
 }
 
 template ContactPairs find_contact_pairs(const ContactHalo<double>&, double, bool,

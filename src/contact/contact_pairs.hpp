@@ -32,6 +32,19 @@ template <class Real>
 ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, bool self,
                                 const std::vector<Real>* to = nullptr);
 
+// What the stats report of the pairs on one rank (summed or reduced over
+// ranks by the caller).
+struct PairStats {
+  double pairs = 0;           // counted pairs in contact
+  double least = 1e300;       // the least distance of the pairs (1e300: none)
+  std::vector<double> force;  // per body, xyz: the force the pairs put on owned vertices
+};
+
+// Throws InputError on every rank when `least_distance` (over all ranks) is
+// not positive: bodies touching at the start, where the barrier is infinite
+// and the projection's planes are not defined.
+void require_bodies_apart(double least_distance, double dh);
+
 // Whether this rank counts the energy of the pair with contact vertices `v`.
 template <class Real>
 bool counted_here(const ContactHalo<Real>& halo, const std::array<index_t, 4>& v) {

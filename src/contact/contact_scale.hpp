@@ -1,11 +1,13 @@
 #pragma once
-// The two scales every contact term of a run shares, obstacles and pairs
-// alike (docs/contact.md): the barrier's activation distance dh and each
-// surface vertex's barrier stiffness.
+// The scales every contact term of a run shares, obstacles and pairs alike
+// (docs/contact.md): the barrier's activation distance dh, each surface
+// vertex's barrier stiffness, and the mean surface edge at rest.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "comm/reduction.hpp"
+#include "common/mesh.hpp"
 #include "io/scene.hpp"
 #include "partition/local_mesh.hpp"
 
@@ -27,6 +29,29 @@ inline double activation_distance(const LocalMesh& mesh, const Scene& scene,
   double extent2 = 0;
   for (int i = 0; i < 3; ++i) extent2 += (box[i] + box[3 + i]) * (box[i] + box[3 + i]);
   return 1e-3 * std::sqrt(extent2);
+}
+
+// The mean length of the surface triangles' edges at rest (each edge counted
+// once per triangle; the same on every rank). Collective: one allreduce.
+inline double mean_surface_edge(const LocalMesh& mesh, EnergyReduction& reduction) {
+  std::vector<double> edges(2, 0.0);  // summed length, count
+  const auto& x = mesh.rest_positions;
+  for (index_t t = 0; t < mesh.num_tets(); ++t)
+    for (int f = 0; f < 4; ++f) {
+      if (!(mesh.surface_faces[t] & (1u << f))) continue;
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t a = mesh.tets[4 * static_cast<std::size_t>(t) + kTetFaces[f][k]];
+        const std::size_t b =
+            mesh.tets[4 * static_cast<std::size_t>(t) + kTetFaces[f][(k + 1) % 3]];
+        double d2 = 0;
+        for (int i = 0; i < 3; ++i)
+          d2 += (x[3 * b + i] - x[3 * a + i]) * (x[3 * b + i] - x[3 * a + i]);
+        edges[0] += std::sqrt(d2);
+        edges[1] += 1;
+      }
+    }
+  reduction.sum_in_place(edges);
+  return edges[1] > 0 ? edges[0] / edges[1] : 0.0;
 }
 
 // contact.stiffness, or what holds vertex v already: m / h^2 plus the largest

@@ -269,29 +269,27 @@ void check_contact(const SceneDocument& doc, const Scene& scene) {
   require(doc, contact.friction >= 0, "contact.friction", ">= 0", contact.friction);
   // The barrier lives in the energy that the Chebyshev iteration descends;
   // the other methods do not yet evaluate it or keep iterates outside the
-  // obstacles.
-  // Contact between bodies (several bodies, or contact.self) is a barrier
-  // in the Chebyshev iteration's energy, on the CPU, with Jacobi's D.
+  // obstacles. Contact between bodies (several bodies, or contact.self) as
+  // a barrier is in the Chebyshev iteration's energy, on the CPU, with
+  // Jacobi's D; as a projection pass after the solve it takes any of them.
   const bool between_bodies = scene.bodies.size() > 1 || contact.self;
-  if (between_bodies) {
+  if (between_bodies && contact.method == "energy") {
     const std::string key = contact.self ? "contact.self" : "body.1";
     const std::string what =
         contact.self ? std::string("contact.self = true") : "a scene of several bodies ([[body]])";
     if (scene.solver.method != "chebyshev")
-      throw InputError(detail::concat(doc.where("solver.method"), ": ", what,
-                                      " has contact between bodies, which solver.method = "
-                                      "chebyshev alone evaluates (got ",
-                                      scene.solver.method, ")"));
-    if (contact.method != "energy")
-      throw InputError(detail::concat(doc.where("contact.method"), ": ", what,
-                                      " has contact between bodies, which contact.method = "
-                                      "\"energy\" alone handles (got \"",
-                                      contact.method, "\")"));
+      throw InputError(detail::concat(
+          doc.where("solver.method"), ": ", what,
+          " has contact between bodies, whose barrier (contact.method = \"energy\") "
+          "solver.method = chebyshev alone evaluates (got ",
+          scene.solver.method, "); contact.method = \"projection\" works with every method"));
     if (scene.solver.preconditioner == "multilevel" || scene.solver.preconditioner == "petsc_gamg")
-      throw InputError(detail::concat(doc.where("solver.preconditioner"),
-                                      ": solver.preconditioner = \"", scene.solver.preconditioner,
-                                      "\" knows nothing of the contact between bodies that ", what,
-                                      " has; use \"auto\" or \"jacobi\" (", doc.where(key), ")"));
+      throw InputError(
+          detail::concat(doc.where("solver.preconditioner"), ": solver.preconditioner = \"",
+                         scene.solver.preconditioner,
+                         "\" knows nothing of the contact barrier between bodies that ", what,
+                         " has; use \"auto\" or \"jacobi\", or contact.method = \"projection\" (",
+                         doc.where(key), ")"));
   }
   if (!scene.obstacles.empty() && contact.method == "energy" && scene.solver.method != "chebyshev")
     throw InputError(detail::concat(doc.where("solver.method"),

@@ -185,9 +185,12 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
   if (!scene.obstacles.empty())
     contact_ = std::make_unique<ObstacleContact<Real>>(mesh, scene, halo_, reduction_, mass_,
                                                        rest_diagonal, terms_.inv_h2);
-  if (has_body_contact(scene))
+  if (has_body_contact(scene) && scene.contact.method == "energy")
     body_contact_ = std::make_unique<BodyContact<Real>>(mesh, scene, halo_, reduction_, mass_,
                                                         rest_diagonal, terms_.inv_h2);
+  if (has_body_contact(scene) && scene.contact.method == "projection")
+    body_projection_ =
+        std::make_unique<BodyProjection<Real>>(mesh, scene, halo_, reduction_, mass_, fixed_);
 }
 
 template <class Real>
@@ -347,6 +350,8 @@ void LocalProblem<Real>::begin_contact_step(double t, const Real* qt, Real* q) {
 
 template <class Real>
 void LocalProblem<Real>::end_contact_step(Real* q, const Real* qt) {
+  // Bodies first: the obstacles are rigid and have the last word.
+  if (body_projection_) body_projection_->project(q, qt);
   if (contact_) contact_->project(q, qt);
 }
 

@@ -13,6 +13,7 @@
 #include "comm/halo.hpp"
 #include "comm/reduction.hpp"
 #include "contact/body_contact.hpp"
+#include "contact/body_projection.hpp"
 #include "contact/obstacle_contact.hpp"
 #include "io/scene.hpp"
 #include "kernels/conversion.hpp"
@@ -62,8 +63,11 @@ class LocalProblem {
   ObstacleContact<Real>* contact() { return contact_.get(); }
   const ObstacleContact<Real>* contact() const { return contact_.get(); }
   // Contact between bodies (null without several bodies or contact.self):
-  // pair terms of eps that the Chebyshev engine adds on the CPU.
+  // pair terms of eps that the Chebyshev engine adds on the CPU
+  // (contact.method = "energy"), or the pass that corrects each step's
+  // result ("projection"); one of them at most.
   BodyContact<Real>* body_contact() { return body_contact_.get(); }
+  BodyProjection<Real>* body_projection() { return body_projection_.get(); }
   // A step from time t (step-start positions qt) with guess q: the
   // obstacles placed for it and q kept outside them (ObstacleContact::
   // begin_step), the pairs between bodies found and q pulled back so none
@@ -176,6 +180,7 @@ class LocalProblem {
   std::vector<Real> partial_;                    // 3 or 6 per vertex: gradient [, diagonal]
   std::unique_ptr<ObstacleContact<Real>> contact_;
   std::unique_ptr<BodyContact<Real>> body_contact_;
+  std::unique_ptr<BodyProjection<Real>> body_projection_;
 };
 
 }  // namespace descent

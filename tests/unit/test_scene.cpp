@@ -1229,7 +1229,7 @@ TEST(Scene, BodyErrorsNameTheBodyAndItsKey) {
   expect_has(error_of(box_body, {"mesh.scale=2"}), "--set mesh.scale=2: the scene needs a mesh");
 }
 
-TEST(Scene, ContactBetweenBodiesNeedsTheChebyshevBarrierWithJacobi) {
+TEST(Scene, ContactBetweenBodiesAsABarrierNeedsChebyshevWithJacobi) {
   const std::string two =
       "[[body]]\ngenerator = { kind = \"box\" }\n[[body]]\ngenerator = { kind "
       "= \"box\" }\ntranslate = [2, 0, 0]\n";
@@ -1240,14 +1240,19 @@ TEST(Scene, ContactBetweenBodiesNeedsTheChebyshevBarrierWithJacobi) {
   expect_has(error_of(two + "[contact]\nfriction = -0.3\n"),
              "contact.friction must be >= 0, got -0.3");
   expect_has(error_of(two + "[solver]\nmethod = \"lbfgs\"\n"),
-             "scene.toml:7: a scene of several bodies ([[body]]) has contact between bodies, which "
-             "solver.method = chebyshev alone evaluates (got lbfgs)");
-  expect_has(error_of(two + "[contact]\nmethod = \"projection\"\n"),
-             "which contact.method = \"energy\" alone handles (got \"projection\")");
+             "scene.toml:7: a scene of several bodies ([[body]]) has contact between bodies, whose "
+             "barrier (contact.method = \"energy\") solver.method = chebyshev alone evaluates (got "
+             "lbfgs); contact.method = \"projection\" works with every method");
   expect_has(error_of(two + "[solver]\npreconditioner = \"multilevel\"\n"),
-             "solver.preconditioner = \"multilevel\" knows nothing of the contact between bodies");
+             "solver.preconditioner = \"multilevel\" knows nothing of the contact barrier between "
+             "bodies");
   expect_has(error_of(kBoxScene, {"contact.self=true", "solver.method=\"ncg\""}),
              "contact.self = true has contact between bodies");
+  // The projection pass runs after any method and preconditioner.
+  const std::string projection = "[contact]\nmethod = \"projection\"\n";
+  EXPECT_NO_THROW(parse(two + projection + "[solver]\nmethod = \"lbfgs\"\n"));
+  EXPECT_NO_THROW(parse(two + projection + "[solver]\npreconditioner = \"multilevel\"\n"));
+  EXPECT_NO_THROW(parse(kBoxScene + projection, {"contact.self=true", "solver.method=\"ncg\""}));
   // One body without self contact: any method, as before.
   EXPECT_NO_THROW(
       parse("[[body]]\ngenerator = { kind = \"box\" }\n[solver]\nmethod = \"lbfgs\"\n"));
