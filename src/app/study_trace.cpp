@@ -1,5 +1,6 @@
 #include "app/study_trace.hpp"
 
+#include <cmath>
 #include <ctime>
 #include <limits>
 
@@ -83,6 +84,13 @@ class LocalMeasure {
   void operator()(const Real* q, const Real* y, const Real* qt, Energy out[2]) {
     if (!twin_) {
       out[0] = own_.local_energy(q, y, qt);
+      // The barrier between bodies is part of eps: measured at the pairs the
+      // step found, the iteration's state left as it is.
+      if (const BodyContact<Real>* pairs = own_.body_contact()) {
+        const double e = pairs->measured_energy(q);
+        out[0].value += e;
+        out[0].magnitude += std::abs(e);
+      }
       out[1] = local_kinetic(own_, q, qt);
       return;
     }

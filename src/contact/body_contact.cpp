@@ -261,6 +261,29 @@ double BodyContact<Real>::local_energy(const Real* q) {
 }
 
 template <class Real>
+double BodyContact<Real>::measured_energy(const Real* q) const {
+  std::vector<Real> p;
+  halo_.gather(q, p);
+  const std::vector<Real>& kappa = halo_.carried();
+  double sum = 0;
+  Real x[12];
+  std::size_t pair = 0;
+  for (PairKind kind : {PairKind::vertex_triangle, PairKind::edge_edge})
+    for (const auto& v :
+         kind == PairKind::vertex_triangle ? pairs_.vertex_triangle : pairs_.edge_edge) {
+      const std::size_t index = pair++;
+      if (!counted_here(halo_, v)) continue;
+      Real k = 0;
+      for (int j = 0; j < 4; ++j) {
+        k += kappa[v[j]] / Real(4);
+        for (int i = 0; i < 3; ++i) x[3 * j + i] = p[3 * static_cast<std::size_t>(v[j]) + i];
+      }
+      sum += static_cast<double>(terms_of(kind, index, v, x, k, PairHessian::none).energy);
+    }
+  return sum;
+}
+
+template <class Real>
 void BodyContact<Real>::add_hessian_product(const Real* q, const Real* v, Real* out) {
   update_ghosts(q);
   {

@@ -79,6 +79,11 @@ class BodyContact {
   // This rank's share of the pairs' energy at q (each pair counted once);
   // +inf when a path since the last energy was not proven free of crossings.
   double local_energy(const Real* q);
+  // This rank's share of the pairs' energy at q, barrier and friction, each
+  // pair counted once, leaving every state of the iteration as it is (the
+  // guard's paths, the skip bounds, the timers): for a study's measurements
+  // between iterations. Collective with the contact neighbours.
+  double measured_energy(const Real* q) const;
   // The exact Hessian of the pairs at q times v, added to out (3 per vertex).
   void add_hessian_product(const Real* q, const Real* v, Real* out);
   // Collective with the contact neighbours: the move q -> q_next of each

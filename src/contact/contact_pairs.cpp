@@ -33,6 +33,44 @@ Aabb bounds(const ContactHalo<Real>& halo, const std::vector<Real>* to, const in
   return box;
 }
 
+// Boxes hashed body by body: a query asks only the bodies it may pair with
+// (without contact.self, not its own, whose surface is most of what lies
+// near its vertices) and whose box it meets.
+class HashByBody {
+ public:
+  HashByBody(const std::vector<Aabb>& boxes, const std::vector<int>& body, double cell_size) {
+    const int num_bodies = body.empty() ? 0 : *std::max_element(body.begin(), body.end()) + 1;
+    ids_.resize(num_bodies);
+    bounds_.resize(num_bodies);
+    std::vector<std::vector<Aabb>> boxes_of(num_bodies);
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      ids_[body[i]].push_back(static_cast<index_t>(i));
+      boxes_of[body[i]].push_back(boxes[i]);
+      bounds_[body[i]].add(boxes[i].lo.data());
+      bounds_[body[i]].add(boxes[i].hi.data());
+    }
+    for (int b = 0; b < num_bodies; ++b) hashes_.emplace_back(boxes_of[b], cell_size);
+  }
+
+  // Ids of the boxes overlapping `query` among the bodies admit(b) accepts,
+  // in no particular order.
+  template <class Admit>
+  void candidates(const Aabb& query, Admit&& admit, std::vector<index_t>& out) const {
+    out.clear();
+    for (std::size_t b = 0; b < hashes_.size(); ++b) {
+      if (ids_[b].empty() || !admit(static_cast<int>(b)) || !bounds_[b].overlaps(query)) continue;
+      hashes_[b].candidates(query, found_);
+      for (index_t k : found_) out.push_back(ids_[b][k]);
+    }
+  }
+
+ private:
+  std::vector<std::vector<index_t>> ids_;  // per body: its boxes' ids
+  std::vector<Aabb> bounds_;               // per body: the box of its boxes
+  std::vector<SpatialHash> hashes_;
+  mutable std::vector<index_t> found_;
+};
+
 template <class Real>
 void gather(const ContactHalo<Real>& halo, const std::array<index_t, 4>& v, Real* x) {
   for (int k = 0; k < 4; ++k)
@@ -112,14 +150,19 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
   Real x[12];
 
   std::vector<Aabb> triangle_boxes;
-  for (const auto& t : triangles) triangle_boxes.push_back(bounds(halo, to, t.data(), 3, 0.0));
-  const SpatialHash triangle_hash(triangle_boxes, SpatialHash::cell_size_for(triangle_boxes));
+  std::vector<int> triangle_body;
+  for (const auto& t : triangles) {
+    triangle_boxes.push_back(bounds(halo, to, t.data(), 3, 0.0));
+    triangle_body.push_back(body[t[0]]);
+  }
+  const HashByBody triangle_hash(triangle_boxes, triangle_body,
+                                 SpatialHash::cell_size_for(triangle_boxes, 2 * reach));
   for (index_t p : vertices) {
-    triangle_hash.candidates(bounds(halo, to, &p, 1, reach), found);
+    triangle_hash.candidates(
+        bounds(halo, to, &p, 1, reach), [&](int b) { return self || b != body[p]; }, found);
     for (index_t k : found) {
       const auto& t = triangles[k];
       if (p == t[0] || p == t[1] || p == t[2]) continue;
-      if (!self && (body[p] == body[t[0]])) continue;
       const std::array<index_t, 4> v{p, t[0], t[1], t[2]};
       if (!touches_local(v)) continue;
       gather(halo, v, x);
@@ -128,16 +171,23 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
   }
 
   std::vector<Aabb> edge_boxes;
-  for (const auto& e : edges) edge_boxes.push_back(bounds(halo, to, e.data(), 2, 0.0));
-  const SpatialHash edge_hash(edge_boxes, SpatialHash::cell_size_for(edge_boxes));
+  std::vector<int> edge_body;
+  for (const auto& e : edges) {
+    edge_boxes.push_back(bounds(halo, to, e.data(), 2, 0.0));
+    edge_body.push_back(body[e[0]]);
+  }
+  const HashByBody edge_hash(edge_boxes, edge_body,
+                             SpatialHash::cell_size_for(edge_boxes, 2 * reach));
   for (std::size_t i = 0; i < edges.size(); ++i) {
-    edge_hash.candidates(bounds(halo, to, edges[i].data(), 2, reach), found);
+    const int own = body[edges[i][0]];
+    edge_hash.candidates(
+        bounds(halo, to, edges[i].data(), 2, reach), [&](int b) { return self || b != own; },
+        found);
     for (index_t k : found) {
       if (static_cast<std::size_t>(k) <= i) continue;  // each pair once: the later edge
       const auto& a = edges[i];
       const auto& b = edges[k];
       if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
-      if (!self && body[a[0]] == body[b[0]]) continue;
       const std::array<index_t, 4> v{a[0], a[1], b[0], b[1]};
       if (!touches_local(v)) continue;
       gather(halo, v, x);

@@ -28,12 +28,12 @@ std::array<std::int64_t, 3> SpatialHash::cell_of(const double* p) const {
   return cell;
 }
 
-double SpatialHash::cell_size_for(const std::vector<Aabb>& boxes) {
+double SpatialHash::cell_size_for(const std::vector<Aabb>& boxes, double query_growth) {
   double sum = 0;
   for (const Aabb& box : boxes)
     sum += std::max({box.hi[0] - box.lo[0], box.hi[1] - box.lo[1], box.hi[2] - box.lo[2]});
-  const double mean = boxes.empty() ? 0 : sum / static_cast<double>(boxes.size());
-  return mean > 0 ? mean : 1.0;
+  const double size = (boxes.empty() ? 0 : sum / static_cast<double>(boxes.size())) + query_growth;
+  return size > 0 ? size : 1.0;
 }
 
 SpatialHash::SpatialHash(const std::vector<Aabb>& boxes, double cell_size)
@@ -80,11 +80,13 @@ void SpatialHash::candidates(const Aabb& query, std::vector<index_t>& out) const
           out.insert(out.end(), ids_.begin() + offsets_[c], ids_.begin() + offsets_[c + 1]);
         }
   }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+  // The overlap test first: a box listed in several cells the query covers
+  // comes once per cell, and sorting those repeats cost more than the test.
   out.erase(std::remove_if(out.begin(), out.end(),
                            [&](index_t id) { return !boxes_[id].overlaps(query); }),
             out.end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
 }  // namespace descent

@@ -43,8 +43,11 @@ class SpatialHash {
   // on the boxes a rank happens to hold; the caller tests the primitives.
   void candidates(const Aabb& query, std::vector<index_t>& out) const;
 
-  // A cell edge for boxes about this size: the mean largest extent.
-  static double cell_size_for(const std::vector<Aabb>& boxes);
+  // A cell edge for boxes about this size queried by boxes grown by
+  // `query_growth` beyond theirs: the mean largest extent plus the growth,
+  // so a query covers a few cells along each axis, not the growth over the
+  // extent (a pair search's reach can be many primitives wide).
+  static double cell_size_for(const std::vector<Aabb>& boxes, double query_growth = 0);
 
  private:
   std::array<std::int64_t, 3> cell_of(const double* p) const;

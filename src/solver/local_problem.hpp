@@ -67,6 +67,7 @@ class LocalProblem {
   // (contact.method = "energy"), or the pass that corrects each step's
   // result ("projection"); one of them at most.
   BodyContact<Real>* body_contact() { return body_contact_.get(); }
+  const BodyContact<Real>* body_contact() const { return body_contact_.get(); }
   BodyProjection<Real>* body_projection() { return body_projection_.get(); }
   // A step from time t (step-start positions qt) with guess q: the
   // obstacles placed for it and q kept outside them (ObstacleContact::

@@ -3,8 +3,9 @@
 // solved without contact and its result corrected, end every step apart,
 // keep their total momentum, and lose the normal velocity of the impact;
 // at 20 m/s relative speed and dt = 1/30, where every solve takes them
-// through each other, every method's steps end apart; P ranks give one
-// rank's result with the pairs spanning ranks.
+// through each other, every method's steps end apart. (P ranks giving one
+// rank's result, and bodies touching at the start: test_body_contact.cpp,
+// for both formulations.)
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -106,33 +107,6 @@ TEST(BodyProjection, EveryMethodEndsApartAtTwentyMetresPerSecond) {
       deepest = std::max(deepest, measured(sim, "body_contact_penetration"));
     }
     EXPECT_GT(deepest, 0.05) << c.method << " " << c.preconditioner;
-  }
-}
-
-TEST(BodyProjection, PRanksGiveOneRanksResult) {
-  Scene scene = projected(head_on(2.0));
-  scene.solver.iterations = 48;
-  const Mesh mesh = build_scene_mesh(scene);
-  const testing::OneRankComparison c =
-      testing::compare_with_one_rank(MPI_COMM_WORLD, scene, mesh, 12);
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank == 0) {
-    EXPECT_GT(c.moved, 0.05);  // through the impact
-    EXPECT_LT(c.worst, 1e-9 * c.moved);
-  }
-}
-
-TEST(BodyProjection, BodiesThatTouchAtTheStartAreAnError) {
-  Scene scene = projected(head_on(0.0));
-  scene.bodies[1].translate = {-0.05, 0.0, 0.0};  // face on face at x = -0.05
-  const Mesh mesh = build_scene_mesh(scene);
-  try {
-    Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
-    ADD_FAILURE() << "no error";
-  } catch (const InputError& error) {
-    EXPECT_NE(std::string(error.what()).find("bodies touch at the start"), std::string::npos)
-        << error.what();
   }
 }
 
