@@ -42,13 +42,14 @@ struct Subset {
 
 // The largest time step, the stiffest material, near-incompressibility, a
 // 100 m/s impact, a collapsed body, both bad tets, a 20 m/s throw at a
-// floor and two bodies thrown at each other at 20 m/s.
+// floor and two bodies thrown at each other at 20 m/s, with the barrier and
+// with the projection.
 constexpr Subset kSubset[] = {
     {"dt_1", Expect::completes},          {"E_1e11", Expect::completes},
     {"nu_0.499", Expect::completes},      {"throw_100", Expect::completes},
     {"collapse", Expect::recovers},       {"sliver", Expect::completes},
     {"needle", Expect::names_needle_tet}, {"floor_20", Expect::completes},
-    {"bodies_20", Expect::completes}};
+    {"bodies_20", Expect::completes},     {"bodies_20_projection", Expect::completes}};
 
 // Known exceptions, measured by the sweep and explained in docs/extremes.md:
 // Fung's exponential overflows when tets are crushed (J -> 0 drives
