@@ -12,9 +12,10 @@ namespace descent {
 namespace {
 
 // Passes over the paths q_t -> the corrected result (after the first), and
-// sweeps per pass, at most; a constraint counts as met within kTolerance dh. The bounds only
-// stop a pass that cannot converge (constraints that contradict each other,
-// e.g. a vertex squeezed between two held bodies): unresolved_steps() counts them.
+// sweeps per pass, at most; a constraint counts as met within kTolerance dh.
+// The bounds only stop a pass that cannot converge (constraints that
+// contradict each other, e.g. a vertex squeezed between two held bodies):
+// unresolved_steps() counts them.
 constexpr int kMaxPasses = 4;
 constexpr int kMaxSweeps = 64;
 constexpr double kTolerance = 0.1;

@@ -20,7 +20,6 @@
 // bring other pairs within reach: the pass is repeated, over the paths from
 // q_t to the corrected result, until no constraint is violated.
 #include <array>
-#include <chrono>
 #include <vector>
 
 #include "comm/halo.hpp"
