@@ -162,10 +162,21 @@ PairTerms<Real> BodyContact<Real>::terms_of(PairKind kind, std::size_t pair,
 }
 
 template <class Real>
+Real BodyContact<Real>::gather_pair(const std::vector<Real>& p, const std::array<index_t, 4>& v,
+                                    Real* x) const {
+  const std::vector<Real>& kappa = halo_.carried();
+  Real k = 0;
+  for (int j = 0; j < 4; ++j) {
+    k += kappa[v[j]] / Real(4);
+    for (int i = 0; i < 3; ++i) x[3 * j + i] = p[3 * static_cast<std::size_t>(v[j]) + i];
+  }
+  return k;
+}
+
+template <class Real>
 template <class Visit>
 void BodyContact<Real>::for_each_pair(bool skip_far, Visit&& visit) {
   const std::vector<Real>& p = halo_.positions();
-  const std::vector<Real>& kappa = halo_.carried();
   Real x[12];
   std::size_t index = 0;
   for (int kind = 0; kind < 2; ++kind)
@@ -184,11 +195,7 @@ void BodyContact<Real>::for_each_pair(bool skip_far, Visit&& visit) {
           continue;
         }
       }
-      Real k = 0;
-      for (int j = 0; j < 4; ++j) {
-        k += kappa[v[j]] / Real(4);
-        for (int i = 0; i < 3; ++i) x[3 * j + i] = p[3 * static_cast<std::size_t>(v[j]) + i];
-      }
+      const Real k = gather_pair(p, v, x);
       const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
       const double distance = visit(pair_kind, v, x, k, pair);
       if (distance >= 0) {
@@ -264,22 +271,15 @@ template <class Real>
 double BodyContact<Real>::measured_energy(const Real* q) const {
   std::vector<Real> p;
   halo_.gather(q, p);
-  const std::vector<Real>& kappa = halo_.carried();
   double sum = 0;
   Real x[12];
   std::size_t pair = 0;
-  for (PairKind kind : {PairKind::vertex_triangle, PairKind::edge_edge})
-    for (const auto& v :
-         kind == PairKind::vertex_triangle ? pairs_.vertex_triangle : pairs_.edge_edge) {
-      const std::size_t index = pair++;
-      if (!counted_here(halo_, v)) continue;
-      Real k = 0;
-      for (int j = 0; j < 4; ++j) {
-        k += kappa[v[j]] / Real(4);
-        for (int i = 0; i < 3; ++i) x[3 * j + i] = p[3 * static_cast<std::size_t>(v[j]) + i];
-      }
-      sum += static_cast<double>(terms_of(kind, index, v, x, k, PairHessian::none).energy);
-    }
+  for_each_contact_pair(pairs_, [&](PairKind kind, const std::array<index_t, 4>& v) {
+    const std::size_t index = pair++;
+    if (!counted_here(halo_, v)) return;
+    const Real k = gather_pair(p, v, x);
+    sum += static_cast<double>(terms_of(kind, index, v, x, k, PairHessian::none).energy);
+  });
   return sum;
 }
 

@@ -144,6 +144,9 @@ class BodyContact {
   // its pairs' paths (relative), or to its nearest pair's gap (safe).
   void cut_by_pair_paths(Real* q_next, const std::uint8_t* fixed);
   void cut_by_nearest_gap(const Real* q, Real* q_next, const std::uint8_t* fixed);
+  // The pair's 12 coordinates from `p` (3 per contact vertex) into x; returns
+  // its stiffness, the mean of its vertices'.
+  Real gather_pair(const std::vector<Real>& p, const std::array<index_t, 4>& v, Real* x) const;
   // The pair's barrier and friction terms at x (its 12 coordinates).
   PairTerms<Real> terms_of(PairKind kind, std::size_t pair, const std::array<index_t, 4>& v,
                            const Real* x, Real kappa, PairHessian hessian) const;

@@ -49,15 +49,19 @@ BodyProjection<Real>::BodyProjection(const LocalMesh& mesh, const Scene& scene, 
   const std::vector<Real> rest(mesh.rest_positions.begin(), mesh.rest_positions.end());
   halo_.rebuild(rest.data(), dh_, inv_mass_);
   const ContactPairs pairs = find_contact_pairs(halo_, dh_, self_);
+  require_bodies_apart(-reduction.max_of(-least_distance(pairs, halo_.positions())), dh_);
+}
+
+template <class Real>
+double BodyProjection<Real>::least_distance(const ContactPairs& pairs,
+                                            const std::vector<Real>& x) const {
   double least = 1e300;
-  Real x[12];
-  for (PairKind kind : {PairKind::vertex_triangle, PairKind::edge_edge})
-    for (const auto& v :
-         kind == PairKind::vertex_triangle ? pairs.vertex_triangle : pairs.edge_edge) {
-      gather_pair(halo_.positions(), v, x);
-      least = std::min(least, std::sqrt(static_cast<double>(pair_distance(kind, x, false).d2)));
-    }
-  require_bodies_apart(-reduction.max_of(-least), dh_);
+  Real y[12];
+  for_each_contact_pair(pairs, [&](PairKind kind, const std::array<index_t, 4>& v) {
+    gather_pair(x, v, y);
+    least = std::min(least, std::sqrt(static_cast<double>(pair_distance(kind, y, false).d2)));
+  });
+  return least;
 }
 
 template <class Real>
@@ -74,26 +78,23 @@ double BodyProjection<Real>::find_constraints(const Real* qt, const Real* q, boo
   start_ = halo_.positions();
   halo_.gather(q, current_);
   pairs_ = find_contact_pairs(halo_, dh_, self_, &current_);
-  const ContactPairs& pairs = pairs_;
   constraints_.clear();
   Real x0[12], x1[12];
   double violation = 0;
-  for (PairKind kind : {PairKind::vertex_triangle, PairKind::edge_edge})
-    for (const auto& v :
-         kind == PairKind::vertex_triangle ? pairs.vertex_triangle : pairs.edge_edge) {
-      gather_pair(start_, v, x0);
-      gather_pair(current_, v, x1);
-      const PairConstraint<Real> plane = pair_constraint(kind, x0, x1, dh_);
-      if (!plane.active) continue;
-      const double value = pair_constraint_value(plane, x1, dh_);
-      violation = std::max(violation, -value);
-      if (first) {
-        // How far the solve took a side behind the pair's plane.
-        penetration_ = std::max(penetration_, -(value + dh_));
-        if (value < 0 && counted_here(halo_, v)) ++violated_pairs_;
-      }
-      constraints_.push_back({kind, v, plane});
+  for_each_contact_pair(pairs_, [&](PairKind kind, const std::array<index_t, 4>& v) {
+    gather_pair(start_, v, x0);
+    gather_pair(current_, v, x1);
+    const PairConstraint<Real> plane = pair_constraint(kind, x0, x1, dh_);
+    if (!plane.active) return;
+    const double value = pair_constraint_value(plane, x1, dh_);
+    violation = std::max(violation, -value);
+    if (first) {
+      // How far the solve took a side behind the pair's plane.
+      penetration_ = std::max(penetration_, -(value + dh_));
+      if (value < 0 && counted_here(halo_, v)) ++violated_pairs_;
     }
+    constraints_.push_back({kind, v, plane});
+  });
   // Per contact vertex the constraints it is in: complete for this rank's
   // vertices (every pair around them is here), the ghosts' from their
   // holders (3 per vertex, as gather() moves them).
@@ -205,15 +206,19 @@ void BodyProjection<Real>::cut_deep_islands(Real* q, const Real* qt) {
 
 template <class Real>
 void BodyProjection<Real>::project(Real* q, const Real* qt) {
-  const index_t nv = mesh_.num_vertices();
-  const std::vector<Real> before(q, q + 3 * static_cast<std::size_t>(nv));
   penetration_ = 0;
   violated_pairs_ = 0;
+  std::fill(force_.begin(), force_.end(), 0.0);
   const double tolerance = kTolerance * dh_;
+  // A step whose result violates nothing is left as it is.
+  double violation = find_constraints(qt, q, true);
+  if (violation <= tolerance) return;
+  const index_t nv = mesh_.num_vertices();
+  const std::vector<Real> before(q, q + 3 * static_cast<std::size_t>(nv));
   // Each pass finds the constraints over the paths to the result as it is
   // now, so the last one found checks the sweeps before it.
   for (int pass = 0;; ++pass) {
-    double violation = find_constraints(qt, q, pass == 0);
+    if (pass > 0) violation = find_constraints(qt, q, false);
     if (violation <= tolerance) break;
     if (pass == 0 && violation > deep_) {
       cut_deep_islands(q, qt);
@@ -227,7 +232,6 @@ void BodyProjection<Real>::project(Real* q, const Real* qt) {
     for (int s = 0; s < kMaxSweeps && violation > tolerance; ++s) violation = sweep(q);
   }
   // The force the pairs put on each body: m dx / h^2 over its owned vertices.
-  std::fill(force_.begin(), force_.end(), 0.0);
   for (index_t v = 0; v < mesh_.num_owned; ++v)
     for (int i = 0; i < 3; ++i) {
       const std::size_t k = 3 * static_cast<std::size_t>(v) + i;
@@ -240,14 +244,7 @@ template <class Real>
 PairStats BodyProjection<Real>::local_pair_stats() const {
   PairStats stats;
   stats.pairs = static_cast<double>(violated_pairs_);
-  Real x[12];
-  for (PairKind kind : {PairKind::vertex_triangle, PairKind::edge_edge})
-    for (const auto& v :
-         kind == PairKind::vertex_triangle ? pairs_.vertex_triangle : pairs_.edge_edge) {
-      gather_pair(current_, v, x);
-      stats.least =
-          std::min(stats.least, std::sqrt(static_cast<double>(pair_distance(kind, x, false).d2)));
-    }
+  stats.least = least_distance(pairs_, current_);
   stats.force = force_;
   return stats;
 }

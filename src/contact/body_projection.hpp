@@ -83,10 +83,13 @@ class BodyProjection {
   // Collective: where a constraint is violated by more than deep_, its
   // contact island's relative motion over the step is cut to the least
   // share of its pairs' paths that keeps them dh apart (or half their gap
-  // if nearer), its free vertices' common (mass-weighted) move kept: the island keeps its momentum
-  // and the sweeps are left gaps they can close without crushing elements.
+  // if nearer), its free vertices' common (mass-weighted) move kept: the
+  // island keeps its momentum and the sweeps are left gaps they can close
+  // without crushing elements.
   void cut_deep_islands(Real* q, const Real* qt);
   void gather_pair(const std::vector<Real>& x, const std::array<index_t, 4>& v, Real* out) const;
+  // The least distance of `pairs` at x (3 per contact vertex; 1e300: none).
+  double least_distance(const ContactPairs& pairs, const std::vector<Real>& x) const;
 
   const LocalMesh& mesh_;
   const std::vector<int> vertex_body_;  // per local vertex

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "contact/contact_halo.hpp"
+#include "kernels/pair_contact.hpp"
 
 namespace descent {
 
@@ -31,6 +32,14 @@ struct ContactPairs {
 template <class Real>
 ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, bool self,
                                 const std::vector<Real>* to = nullptr);
+
+// visit(kind, vertices) for every pair, in the pairs' order: the
+// vertex-triangle ones, then the edge-edge ones.
+template <class Visit>
+void for_each_contact_pair(const ContactPairs& pairs, Visit&& visit) {
+  for (const auto& v : pairs.vertex_triangle) visit(PairKind::vertex_triangle, v);
+  for (const auto& v : pairs.edge_edge) visit(PairKind::edge_edge, v);
+}
 
 // What the stats report of the pairs on one rank (summed or reduced over
 // ranks by the caller).
