@@ -1,8 +1,8 @@
 #pragma once
-// Procedural meshes: the paper's double helix, a box and a ball. Each is an exact
-// function of its parameters (same parameters, same mesh, bit for bit).
-// Each comes whole (make_*) or as one rank's MeshSlice (make_*_slice), which
-// no rank builds the whole mesh for.
+// Procedural meshes: the paper's double helix, a box, a ball and a car. Each
+// is an exact function of its parameters (same parameters, same mesh, bit for
+// bit). Each comes whole (make_*) and, but the car, as one rank's MeshSlice
+// (make_*_slice), which no rank builds the whole mesh for.
 #include <mpi.h>
 
 #include <array>
@@ -79,5 +79,19 @@ Mesh make_ball(const BallParams& params);
 
 // Rank r of P's block of the same mesh (the box's slice, moved alike).
 MeshSlice make_ball_slice(MPI_Comm comm, const BallParams& params);
+
+// A car (paper 2's car scenes; meshes/car.cpp): a chassis slab, a cabin on it
+// and four wheels, voxelized on cells of about length / cells (six tets each).
+// The length runs along +x, the height along +y (the wheels stand on
+// y = origin[1]), the width along +z; `origin` is the corner of least x, y, z
+// of its bounding box. Small enough to build whole on one rank (a scene
+// scatters it).
+struct CarParams {
+  int cells = 24;                                   // along the length, in [8, 4000]
+  double length = 4.2, width = 1.8, height = 1.45;  // metres
+  std::array<double, 3> origin{0.0, 0.0, 0.0};
+};
+
+Mesh make_car(const CarParams& params);
 
 }  // namespace descent

@@ -14,9 +14,10 @@ namespace descent {
 namespace {
 
 void check_generator(const MeshSpec& spec) {
-  if (spec.generator != "double_helix" && spec.generator != "box" && spec.generator != "ball")
+  if (spec.generator != "double_helix" && spec.generator != "box" && spec.generator != "ball" &&
+      spec.generator != "car")
     throw InputError("mesh.generator '" + spec.generator +
-                     "' is not one of: double_helix, box, ball");
+                     "' is not one of: double_helix, box, ball, car");
 }
 
 void scale(std::vector<double>& positions, double factor) {
@@ -119,6 +120,7 @@ Mesh build_scene_mesh(const MeshSpec& spec, MeshReadReport* report) {
     check_generator(spec);
     mesh = spec.generator == "double_helix" ? make_double_helix(spec.helix)
            : spec.generator == "ball"       ? make_ball(spec.ball)
+           : spec.generator == "car"        ? make_car(spec.car)
                                             : make_box(spec.box);
   }
   scale(mesh.positions, spec.scale);
@@ -131,6 +133,10 @@ MeshSlice build_scene_mesh_slice(MPI_Comm comm, const MeshSpec& spec, MeshReadRe
     slice = read_mesh_slice(comm, spec.file, report);
   } else {
     check_generator(spec);
+    // The car has no slice generator: it is small, built on rank 0 and scattered.
+    if (spec.generator == "car")
+      return scatter_mesh_from_rank0(
+          comm, [&] { return build_scene_mesh(spec, nullptr); }, "car");
     slice = spec.generator == "double_helix" ? make_double_helix_slice(comm, spec.helix)
             : spec.generator == "ball"       ? make_ball_slice(comm, spec.ball)
                                              : make_box_slice(comm, spec.box);

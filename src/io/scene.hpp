@@ -12,13 +12,14 @@
 namespace descent {
 
 struct MeshSpec {
-  std::string generator;  // "double_helix", "box" or "ball"; empty when `file` is set
+  std::string generator;  // "double_helix", "box", "ball" or "car"; empty when `file` is set
   std::string
       file;  // .h5 (read in parallel), .msh (Gmsh 2.2/4.1), .mesh (MEDIT), .node/.ele (TetGen)
   double scale = 1.0;  // applied to file coordinates (files have no units)
   DoubleHelixParams helix;
   BoxParams box;
   BallParams ball;
+  CarParams car;
 };
 
 // One body of a scene with several ([[body]]): its mesh, placed by `scale`,

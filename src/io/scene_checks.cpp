@@ -79,11 +79,12 @@ struct MeshKeys {
   std::string helix;      // "mesh.helix": its keys are helix + ".resolution", ...
   std::string box;        // "mesh.box"
   std::string ball;       // "mesh.ball"
+  std::string car;        // "mesh.car"
 };
 
 MeshKeys scene_mesh_keys() {
   return {"the scene",  "mesh",     "mesh.file", "mesh.generator",
-          "mesh.helix", "mesh.box", "mesh.ball"};
+          "mesh.helix", "mesh.box", "mesh.ball", "mesh.car"};
 }
 
 // `body` names the table: "body.0".
@@ -94,7 +95,8 @@ MeshKeys body_mesh_keys(const std::string& body) {
           body + ".generator.kind",
           body + ".generator.helix",
           body + ".generator.box",
-          body + ".generator.ball"};
+          body + ".generator.ball",
+          body + ".generator.car"};
 }
 
 void check_helix(const SceneDocument& doc, const DoubleHelixParams& helix, const MeshKeys& keys) {
@@ -122,10 +124,19 @@ void check_ball(const SceneDocument& doc, const BallParams& ball, const MeshKeys
   require(doc, ball.radius > 0, at + "radius", "> 0", ball.radius);
 }
 
+void check_car(const SceneDocument& doc, const CarParams& car, const MeshKeys& keys) {
+  const std::string at = keys.car + ".";
+  require(doc, car.cells >= 8 && car.cells <= 4000, at + "cells", "in [8, 4000]", car.cells);
+  require(doc, car.length > 0, at + "length", "> 0", car.length);
+  require(doc, car.width > 0, at + "width", "> 0", car.width);
+  require(doc, car.height > 0, at + "height", "> 0", car.height);
+}
+
 void check_generator_values(const SceneDocument& doc, const MeshSpec& mesh, const MeshKeys& keys) {
   if (mesh.generator == "double_helix") check_helix(doc, mesh.helix, keys);
   if (mesh.generator == "box") check_box(doc, mesh.box, keys);
   if (mesh.generator == "ball") check_ball(doc, mesh.ball, keys);
+  if (mesh.generator == "car") check_car(doc, mesh.car, keys);
 }
 
 // Exactly one of file and generator, a known generator, and the parameter
@@ -134,9 +145,9 @@ void check_mesh_keys(const SceneDocument& doc, const MeshSpec& mesh, const MeshK
   const bool has_generator = doc.has(keys.generator);
   const bool has_file = doc.has(keys.file);
   if (!has_generator && !has_file) {
-    throw InputError(detail::concat(doc.where(keys.table), ": ", keys.owner, " needs a mesh: set ",
-                                    keys.generator, " (\"double_helix\" or \"box\") or ",
-                                    keys.file));
+    throw InputError(detail::concat(
+        doc.where(keys.table), ": ", keys.owner, " needs a mesh: set ", keys.generator,
+        " (\"double_helix\", \"box\", \"ball\" or \"car\") or ", keys.file));
   }
   if (has_generator && has_file) {
     throw InputError(detail::concat(doc.where(keys.file), ": ", keys.file, " and ", keys.generator,
@@ -147,7 +158,7 @@ void check_mesh_keys(const SceneDocument& doc, const MeshSpec& mesh, const MeshK
     throw InputError(detail::concat(doc.where(keys.file), ": ", keys.file, " must not be empty"));
   }
   if (has_generator)
-    require_one_of(doc, keys.generator, mesh.generator, {"double_helix", "box", "ball"});
+    require_one_of(doc, keys.generator, mesh.generator, {"double_helix", "box", "ball", "car"});
   // A parameter table of the other generator would be silently ignored.
   const std::string mesh_from =
       has_file ? detail::concat("the mesh is read from ", keys.file)
@@ -163,6 +174,10 @@ void check_mesh_keys(const SceneDocument& doc, const MeshSpec& mesh, const MeshK
   if (doc.has(keys.ball) && mesh.generator != "ball") {
     throw InputError(detail::concat(doc.where(keys.ball), ": ", keys.ball, " goes with ",
                                     keys.generator, " = \"ball\", but ", mesh_from));
+  }
+  if (doc.has(keys.car) && mesh.generator != "car") {
+    throw InputError(detail::concat(doc.where(keys.car), ": ", keys.car, " goes with ",
+                                    keys.generator, " = \"car\", but ", mesh_from));
   }
 }
 

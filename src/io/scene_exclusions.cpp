@@ -36,7 +36,8 @@ void add_mesh_exclusions(const std::string& file, const std::vector<std::string>
 std::vector<Exclusion> scene_exclusions(const SceneDocument& doc) {
   std::vector<Exclusion> pairs;
   pairs.push_back({"mesh", "body"});  // each body names its own mesh
-  add_mesh_exclusions("mesh.file", {"mesh.generator", "mesh.helix", "mesh.box", "mesh.ball"},
+  add_mesh_exclusions("mesh.file",
+                      {"mesh.generator", "mesh.helix", "mesh.box", "mesh.ball", "mesh.car"},
                       "mesh.helix", pairs);
   if (const toml::node* bodies = doc.find("body"); bodies && bodies->is_array()) {
     for (std::size_t i = 0; i < bodies->as_array()->size(); ++i) {

@@ -19,7 +19,7 @@ struct SceneFields {
 };
 
 // The parameter tables of the generators ([mesh.helix], [mesh.box],
-// [mesh.ball]) below `prefix` ("mesh.", a body's "generator."), but
+// [mesh.ball], [mesh.car]) below `prefix` ("mesh.", a body's "generator."), but
 // helix.preset, which fills no MeshSpec field.
 template <class Visit>
 void visit_generator_keys(MeshSpec& mesh, const std::string& prefix, Visit&& visit) {
@@ -35,6 +35,11 @@ void visit_generator_keys(MeshSpec& mesh, const std::string& prefix, Visit&& vis
   visit(prefix + "ball.cells", mesh.ball.cells);
   visit(prefix + "ball.radius", mesh.ball.radius);
   visit(prefix + "ball.centre", mesh.ball.centre);
+  visit(prefix + "car.cells", mesh.car.cells);
+  visit(prefix + "car.length", mesh.car.length);
+  visit(prefix + "car.width", mesh.car.width);
+  visit(prefix + "car.height", mesh.car.height);
+  visit(prefix + "car.origin", mesh.car.origin);
 }
 
 // Calls visit(dotted_key, field) for every key outside the arrays of tables.

@@ -1,4 +1,4 @@
-// The box and double helix generators: counts, orientation, volume,
+// The box, double helix, ball and car generators: counts, orientation, volume,
 // conformity, connectivity, bounds, determinism and parameter checks.
 #include <gtest/gtest.h>
 
@@ -503,6 +503,116 @@ TEST(Ball, BadValuesThrowInputErrorNamingTheParameter) {
   params.cells = 4;
   params.radius = -1;
   EXPECT_THROW(make_ball(params), InputError);
+}
+
+// ---------------------------------------------------------------- car
+
+CarParams car_params(int cells) {
+  CarParams params;
+  params.cells = cells;
+  params.length = 4.2;
+  params.width = 1.8;
+  params.height = 1.45;
+  params.origin = {-1.0, 0.5, 2.0};
+  return params;
+}
+
+// Number of boundary edges (of faces used by one tet) not shared by exactly
+// two boundary faces: a voxel body whose cells met only at an edge would
+// have such edges, and its surface would not be a closed manifold.
+index_t count_non_manifold_boundary_edges(const std::vector<FaceUse>& uses) {
+  std::vector<std::array<index_t, 2>> edges;
+  for_each_face(uses, [&](std::size_t first, std::size_t count) {
+    if (count != 1) return;
+    const auto& v = uses[first].vertices;
+    edges.push_back({v[0], v[1]});
+    edges.push_back({v[0], v[2]});
+    edges.push_back({v[1], v[2]});
+  });
+  std::sort(edges.begin(), edges.end());
+  index_t bad = 0;
+  for (std::size_t first = 0; first < edges.size();) {
+    std::size_t end = first + 1;
+    while (end < edges.size() && edges[end] == edges[first]) ++end;
+    bad += end - first != 2;
+    first = end;
+  }
+  return bad;
+}
+
+TEST(Car, OnePieceWithAClosedSurfaceFillingItsBoundingBox) {
+  for (int cells : {8, 12, 24, 40}) {
+    const CarParams params = car_params(cells);
+    const Mesh mesh = make_car(params);
+    SCOPED_TRACE(mesh.source);
+    expect_positive_volumes(mesh);
+    expect_all_vertices_used(mesh);
+    const std::vector<FaceUse> uses = sorted_face_uses(mesh);
+    for_each_face(uses, [&](std::size_t, std::size_t count) { EXPECT_LE(count, 2u); });
+    EXPECT_EQ(count_face_components(mesh, uses), 1);
+    EXPECT_EQ(count_non_manifold_boundary_edges(uses), 0);
+    // Its bounding box is the car's, exactly.
+    const double size[3] = {params.length, params.height, params.width};
+    for (int axis = 0; axis < 3; ++axis) {
+      double lo = kInf, hi = -kInf;
+      for (index_t v = 0; v < mesh.num_vertices(); ++v) {
+        lo = std::min(lo, vertex(mesh, v)[axis]);
+        hi = std::max(hi, vertex(mesh, v)[axis]);
+      }
+      EXPECT_EQ(lo, params.origin[axis]);
+      EXPECT_EQ(hi, params.origin[axis] + size[axis]);
+    }
+    // It stands on its wheels: the lowest vertices lie in the wheels' lengths
+    // (within a cell of their span) and at the sides, none under the middle.
+    const double edge = params.length / cells;
+    for (index_t v = 0; v < mesh.num_vertices(); ++v) {
+      const auto x = vertex(mesh, v);
+      if (x[1] != params.origin[1]) continue;
+      const double along = (x[0] - params.origin[0]) / params.length;
+      const double across = (x[2] - params.origin[2]) / params.width;
+      EXPECT_TRUE(std::abs(along - 0.2) < 0.12 + edge / params.length ||
+                  std::abs(along - 0.8) < 0.12 + edge / params.length)
+          << along;
+      EXPECT_TRUE(across < 0.2 + edge / params.width || across > 0.8 - edge / params.width)
+          << across;
+    }
+    // Volume: at least the chassis and the cabin's, at most those plus four
+    // whole wheels, each within the cells' resolution.
+    const double L = params.length, W = params.width, H = params.height;
+    const double slabs = L * W * 0.4 * H + 0.53 * L * 0.84 * W * 0.4 * H;
+    const double wheels = 4 * kPi * (0.22 * H) * (0.22 * H) * W / 7;
+    const double cell_layer = 2 * edge * (L * W + L * H + W * H);
+    EXPECT_GT(total_volume(mesh), slabs - cell_layer);
+    EXPECT_LT(total_volume(mesh), slabs + wheels + cell_layer);
+  }
+}
+
+TEST(Car, SameParametersGiveTheSameMesh) {
+  const Mesh a = make_car(car_params(16)), b = make_car(car_params(16));
+  EXPECT_EQ(a.positions, b.positions);
+  EXPECT_EQ(a.tets, b.tets);
+}
+
+TEST(Car, BadValuesThrowInputErrorNamingTheParameter) {
+  auto expect_rejected = [](const CarParams& params, const std::string& key) {
+    try {
+      make_car(params);
+      ADD_FAILURE() << "no InputError for " << key;
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find(key), std::string::npos) << error.what();
+    }
+  };
+  CarParams params = car_params(7);
+  expect_rejected(params, "car.cells");
+  params = car_params(16);
+  params.width = 0;
+  expect_rejected(params, "car.width");
+  params = car_params(16);
+  params.height = std::nan("");
+  expect_rejected(params, "car.height");
+  params = car_params(16);
+  params.origin[1] = kInf;
+  expect_rejected(params, "car.origin");
 }
 
 }  // namespace

@@ -780,8 +780,8 @@ TEST(Scene, ChoicesListTheValidNames) {
   expect_has(error_of(std::string(kBoxScene) + "[solver]\ninit = \"guess\"\n"),
              "solver.init must be one of \"constant_acceleration\", \"position\", \"velocity\"");
   expect_has(error_of("[mesh]\ngenerator = \"sphere\"\n"),
-             "scene.toml:2: mesh.generator must be one of \"double_helix\", \"box\", \"ball\", got "
-             "\"sphere\"");
+             "scene.toml:2: mesh.generator must be one of \"double_helix\", \"box\", \"ball\", "
+             "\"car\", got \"sphere\"");
 }
 
 // ------------------------------------------------------------- mesh source
@@ -1171,6 +1171,20 @@ TEST(Scene, BodiesReadEveryKey) {
              "body.0.generator.ball.radius must be > 0, got 0");
   expect_has(error_of("[[body]]\ngenerator = { kind = \"box\", ball = { radius = 1 } }\n"),
              "body.0.generator.ball goes with body.0.generator.kind = \"ball\"");
+  const CarParams car = parse(
+                            "[[body]]\ngenerator = { kind = \"car\", car = { cells = 30, length "
+                            "= 4, width = 2, height = 1.5, origin = [1, 2, 3] } }\n")
+                            .bodies[0]
+                            .mesh.car;
+  EXPECT_EQ(car.cells, 30);
+  EXPECT_EQ(car.length, 4.0);
+  EXPECT_EQ(car.width, 2.0);
+  EXPECT_EQ(car.height, 1.5);
+  EXPECT_EQ(car.origin, (Vec3{1, 2, 3}));
+  expect_has(error_of("[[body]]\ngenerator = { kind = \"car\", car = { cells = 4 } }\n"),
+             "body.0.generator.car.cells must be in [8, 4000], got 4");
+  expect_has(error_of("[mesh]\ngenerator = \"box\"\ncar = { width = 1 }\n"),
+             "mesh.car goes with mesh.generator = \"car\", but mesh.generator is \"box\"");
   const Body& helix = scene.bodies[1];
   EXPECT_EQ(helix.mesh.generator, "double_helix");
   EXPECT_EQ(helix.mesh.helix.resolution, double_helix_preset_resolution("41k"));
@@ -1194,13 +1208,13 @@ TEST(Scene, BodyErrorsNameTheBodyAndItsKey) {
   const std::string box_body = "[[body]]\ngenerator = { kind = \"box\" }\n";
   expect_has(error_of(std::string(kBoxScene) + box_body), "[mesh] and [[body]] exclude each other");
   expect_has(error_of("[[body]]\nscale = 2\n"),
-             "scene.toml:1: body.0 needs a mesh: set body.0.generator.kind (\"double_helix\" or "
-             "\"box\") or body.0.file");
+             "scene.toml:1: body.0 needs a mesh: set body.0.generator.kind (\"double_helix\", "
+             "\"box\", \"ball\" or \"car\") or body.0.file");
   expect_has(error_of(box_body + "file = \"a.msh\"\n"),
              "body.0.file and body.0.generator.kind exclude each other");
-  expect_has(
-      error_of("[[body]]\ngenerator = { kind = \"cone\" }\n"),
-      "body.0.generator.kind must be one of \"double_helix\", \"box\", \"ball\", got \"cone\"");
+  expect_has(error_of("[[body]]\ngenerator = { kind = \"cone\" }\n"),
+             "body.0.generator.kind must be one of \"double_helix\", \"box\", \"ball\", \"car\", "
+             "got \"cone\"");
   const std::string box_table = "[[body]]\n[body.generator]\nkind = \"box\"\n";
   expect_has(error_of(box_table + "helix.turns = 3\n"),
              "body.0.generator.helix goes with body.0.generator.kind = \"double_helix\", but "
@@ -1229,7 +1243,7 @@ TEST(Scene, BodyErrorsNameTheBodyAndItsKey) {
   expect_has(error_of(box_body, {"mesh.scale=2"}), "--set mesh.scale=2: the scene needs a mesh");
 }
 
-TEST(Scene, ContactBetweenBodiesAsABarrierNeedsChebyshevWithJacobi) {
+TEST(Scene, ContactBetweenBodiesAsABarrierNeedsAMethodThatEvaluatesItWithJacobi) {
   const std::string two =
       "[[body]]\ngenerator = { kind = \"box\" }\n[[body]]\ngenerator = { kind "
       "= \"box\" }\ntranslate = [2, 0, 0]\n";
