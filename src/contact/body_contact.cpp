@@ -340,6 +340,14 @@ void BodyContact<Real>::guard(Real* q, Real* q_next, const std::uint8_t* fixed) 
 }
 
 template <class Real>
+bool BodyContact<Real>::move_proven(const Real* q_next) {
+  update_ghosts(q_next);
+  const bool proven = reduction_.max_of(crossing_ ? 1.0 : 0.0) == 0;
+  crossing_ = false;
+  return proven;
+}
+
+template <class Real>
 void BodyContact<Real>::cut_by_pair_paths(Real* q_next, const std::uint8_t* fixed) {
   {
     const Timed timed(seconds_.ghosts);

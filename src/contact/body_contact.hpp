@@ -93,6 +93,14 @@ class BodyContact {
   // otherwise carry it on into the pair, closing the gap by the same share
   // every iteration however hard the barrier pushes back.
   void guard(Real* q, Real* q_next, const std::uint8_t* fixed);
+  // For methods that take no momentum from one iterate to the next (gd,
+  // jacobi_gd, lbfgs): collective with the contact neighbours and one
+  // allreduce. Whether the move just guarded from the last add_gradient's q
+  // to q_next is proven free of crossings on every rank (guard() leaves it
+  // to the next exchange otherwise); the ghosts then hold q_next's
+  // positions. When it is not, nothing is flagged for the next energy: the
+  // caller cuts the move again with the safe guard (use_safe_guard()).
+  bool move_proven(const Real* q_next);
   // The safe guard for the rest of the step. Called on every rank after a
   // check whose energy was not finite, which an unproven path on any rank
   // makes it: switched on the detecting rank alone, its neighbours went on

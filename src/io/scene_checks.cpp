@@ -282,36 +282,38 @@ void check_contact(const SceneDocument& doc, const Scene& scene) {
   require(doc, contact.smoothing_velocity > 0, "contact.smoothing_velocity", "> 0",
           contact.smoothing_velocity);
   require(doc, contact.friction >= 0, "contact.friction", ">= 0", contact.friction);
-  // The barrier lives in the energy that the Chebyshev iteration descends;
-  // the other methods do not yet evaluate it or keep iterates outside the
-  // obstacles. Contact between bodies (several bodies, or contact.self) as
-  // a barrier is in the Chebyshev iteration's energy, on the CPU, with
-  // Jacobi's D; as a projection pass after the solve it takes any of them.
+  // The barriers live in eps; chebyshev and the first-order methods gd,
+  // jacobi_gd and lbfgs evaluate them and keep every iterate outside (the
+  // others do not yet). Between bodies they need Jacobi's D (no other
+  // preconditioner knows the pairs), and so do obstacles' with the methods
+  // beyond chebyshev (only chebyshev's multilevel operator takes obstacles'
+  // terms in). As a projection pass after the solve contact takes any.
+  if (contact.method != "energy") return;
   const bool between_bodies = scene.bodies.size() > 1 || contact.self;
-  if (between_bodies && contact.method == "energy") {
-    const std::string key = contact.self ? "contact.self" : "body.1";
-    const std::string what =
-        contact.self ? std::string("contact.self = true") : "a scene of several bodies ([[body]])";
-    if (scene.solver.method != "chebyshev")
-      throw InputError(detail::concat(
-          doc.where("solver.method"), ": ", what,
-          " has contact between bodies, whose barrier (contact.method = \"energy\") "
-          "solver.method = chebyshev alone evaluates (got ",
-          scene.solver.method, "); contact.method = \"projection\" works with every method"));
-    if (scene.solver.preconditioner == "multilevel" || scene.solver.preconditioner == "petsc_gamg")
-      throw InputError(
-          detail::concat(doc.where("solver.preconditioner"), ": solver.preconditioner = \"",
-                         scene.solver.preconditioner,
-                         "\" knows nothing of the contact barrier between bodies that ", what,
-                         " has; use \"auto\" or \"jacobi\", or contact.method = \"projection\" (",
-                         doc.where(key), ")"));
-  }
-  if (!scene.obstacles.empty() && contact.method == "energy" && scene.solver.method != "chebyshev")
-    throw InputError(detail::concat(doc.where("solver.method"),
-                                    ": obstacles with contact.method = \"energy\" need "
-                                    "solver.method = chebyshev (got ",
-                                    scene.solver.method,
-                                    "); contact.method = \"projection\" works with every method"));
+  if (!between_bodies && scene.obstacles.empty()) return;
+  const std::string what =
+      contact.self     ? std::string("contact.self = true (contact between bodies)")
+      : between_bodies ? std::string("a scene of several bodies ([[body]], contact between them)")
+                       : std::string("obstacles ([[obstacle]])");
+  const std::string& method = scene.solver.method;
+  const bool evaluates_barrier =
+      method == "chebyshev" || method == "gd" || method == "jacobi_gd" || method == "lbfgs";
+  if (!evaluates_barrier)
+    throw InputError(
+        detail::concat(doc.where("solver.method"), ": ", what,
+                       " with contact.method = \"energy\" (a barrier in "
+                       "eps) need solver.method = chebyshev, gd, jacobi_gd or lbfgs (got ",
+                       method, "); contact.method = \"projection\" works with every method"));
+  // "auto" is Jacobi's D here: chebyshev leaves out its multilevel operator
+  // with pairs, and the other methods take D.
+  const std::string& preconditioner = scene.solver.preconditioner;
+  const bool other = preconditioner == "multilevel" || preconditioner == "petsc_gamg";
+  if (other && (between_bodies || method != "chebyshev"))
+    throw InputError(
+        detail::concat(doc.where("solver.preconditioner"), ": solver.preconditioner = \"",
+                       preconditioner, "\" knows nothing of the contact barrier of ", what,
+                       between_bodies ? "" : " with solver.method = " + method,
+                       "; use \"auto\" or \"jacobi\", or contact.method = \"projection\""));
 }
 
 // A material parameter only some models use. Set to nonzero for another

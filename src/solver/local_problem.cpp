@@ -1,11 +1,13 @@
 #include "solver/local_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <type_traits>
 #include <variant>
 
 #include "common/error.hpp"
+#include "kernels/contact_loops.hpp"
 #include "kernels/cpu/host_exec.hpp"
 #include "kernels/loops.hpp"
 #include "solver/loads.hpp"
@@ -346,6 +348,45 @@ void LocalProblem<Real>::begin_contact_step(double t, const Real* qt, Real* q) {
   if (body_contact_) body_contact_->pull_back(qt, q);
   if (contact_) contact_->push_out(qt, q);
   if (body_contact_) body_contact_->rebuild_here(q);
+}
+
+template <class Real>
+bool LocalProblem<Real>::has_contact_barrier() const {
+  return body_contact_ || (contact_ && contact_->energy_method());
+}
+
+template <class Real>
+void LocalProblem<Real>::add_contact_gradient(const Real* q, const Real* qt, int width) {
+  if (contact_ && contact_->energy_method()) {
+    HostExec host;
+    const loops::VertexData<Real> vd{
+        mass_.data(), fixed_.data(), diagonal_floor_.data(), external_force_.data(), nullptr,
+        qt,           terms_};
+    loops::add_contact_gradient(host, 0, contact_->view(), vd, q, partial_.data(), width,
+                                static_cast<Real*>(nullptr));
+  }
+  if (body_contact_)
+    body_contact_->add_gradient(q, partial_.data(), width, nullptr, terms_, mass_.data());
+}
+
+template <class Real>
+void LocalProblem<Real>::guard_contact_moves(const Real* q, Real* q_next) {
+  if (contact_ && contact_->energy_method()) {
+    HostExec host;
+    loops::guard_moves(host, 0, contact_->view(), fixed_.data(), q, q_next);
+  }
+  if (!body_contact_) return;
+  // The pair guard sets the cut vertices' q to q_next (chebyshev's momentum):
+  // it gets a copy, and the proposal is kept for a second cut.
+  const std::size_t n = 3 * static_cast<std::size_t>(num_vertices());
+  guard_from_.assign(q, q + n);
+  proposal_.assign(q_next, q_next + n);
+  body_contact_->guard(guard_from_.data(), q_next, fixed_.data());
+  if (body_contact_->move_proven(q_next)) return;
+  body_contact_->use_safe_guard();
+  guard_from_.assign(q, q + n);
+  std::copy(proposal_.begin(), proposal_.end(), q_next);
+  body_contact_->guard(guard_from_.data(), q_next, fixed_.data());
 }
 
 template <class Real>

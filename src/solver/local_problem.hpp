@@ -75,6 +75,25 @@ class LocalProblem {
   // closes too far (BodyContact::begin_step); nothing without contact.
   // Called after the guess is made; collective with contact.
   void begin_contact_step(double t, const Real* qt, Real* q);
+  // Whether eps holds contact barriers: obstacles or pairs between bodies
+  // with contact.method = "energy".
+  bool has_contact_barrier() const;
+  // For methods beyond chebyshev (gd, jacobi_gd, lbfgs) with contact
+  // barriers: their gradient at q (step start qt), and with width 6 their
+  // dominant diagonal, added to the partials the last elastic_gradient
+  // assembled (`width` per vertex). Records each surface vertex's nearest
+  // pair for guard_contact_moves().
+  void add_contact_gradient(const Real* q, const Real* qt, int width);
+  // The Chebyshev engine's guard for those methods: each surface vertex's
+  // move from q (the last add_contact_gradient's) to q_next cut so that it
+  // enters no obstacle and crosses no surface of the bodies. Unlike
+  // chebyshev, which lets its next energy check roll back a move whose
+  // pair paths could not be proven, each move is proven at once (one more
+  // neighbour message and one allreduce per iteration with pairs) and,
+  // where it is not, cut again by the safe guard (BodyContact::
+  // use_safe_guard, for the rest of the step), so no iterate crosses.
+  // Collective with the contact neighbours.
+  void guard_contact_moves(const Real* q, Real* q_next);
   // The step's result q corrected by the projection pass (contact.method =
   // "projection"), before the velocity is formed from it.
   void end_contact_step(Real* q, const Real* qt);
@@ -182,6 +201,7 @@ class LocalProblem {
   std::unique_ptr<ObstacleContact<Real>> contact_;
   std::unique_ptr<BodyContact<Real>> body_contact_;
   std::unique_ptr<BodyProjection<Real>> body_projection_;
+  std::vector<Real> guard_from_, proposal_;  // guard_contact_moves(), with pairs
 };
 
 }  // namespace descent

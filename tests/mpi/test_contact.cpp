@@ -1,7 +1,8 @@
 // Contact with rigid obstacles on 1 to 4 ranks (docs/contact.md): a body
 // resting on a plane carries its weight, a block on an incline sticks or
 // slides as Coulomb says, a body thrown hard at a plane never crosses it in
-// any iterate, P ranks give one rank's result, the projection pass keeps
+// any iterate (with chebyshev and with the first-order methods), P ranks
+// give one rank's result, the projection pass keeps
 // bodies out, and an obstacle that cuts the body at its start is an error
 // naming it.
 #include <gtest/gtest.h>
@@ -141,6 +142,45 @@ TEST(Contact, NoIterateOfAHardImpactCrossesTheFloor) {
     const double weight = box_mass(scene) * 200.0;
     EXPECT_GT(measured(sim, "obstacle0_contacts"), 0.0) << "E " << young;
     EXPECT_NEAR(-measured(sim, "obstacle0_force_y"), weight, 0.05 * weight) << "E " << young;
+  }
+}
+
+// The barrier in the first-order methods (gd, jacobi_gd, lbfgs evaluate it
+// and guard each update as chebyshev does): the box of the test above meets
+// the floor at 20 m/s and no observed iterate of any method has a surface
+// vertex on or below it or not finite; with lbfgs it settles carrying its
+// weight.
+TEST(Contact, TheFirstOrderMethodsKeepEveryIterateOutside) {
+  for (const char* method : {"gd", "jacobi_gd", "lbfgs"}) {
+    Scene scene = box_on_floor(1.0, 0.0);
+    scene.gravity = {0.0, -200.0, 0.0};
+    scene.solver.method = method;
+    scene.time.dt = 1.0 / 30.0;
+    scene.solver.accuracy = 1e-3;
+    scene.solver.iterations = 200;
+    const Mesh mesh = build_scene_mesh(scene.mesh);
+    Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+    const std::vector<index_t>& surface = sim.problem().contact()->vertices();
+    double lowest = 1e300;
+    long iterates = 0;
+    sim.stepper().set_observer([&](int, const double* q, const double*, const double*) {
+      ++iterates;
+      for (index_t v : surface) {
+        const double y = q[3 * v + 1];
+        lowest =
+            std::min(lowest, std::isfinite(q[3 * v]) && std::isfinite(q[3 * v + 2]) ? y : -1.0);
+      }
+    });
+    for (int frame = 0; frame < 30; ++frame)
+      ASSERT_TRUE(sim.step().finite) << method << " frame " << frame;
+    MPI_Allreduce(MPI_IN_PLACE, &lowest, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+    EXPECT_GT(lowest, 0.0) << method << ": a surface vertex reached y = " << lowest;
+    EXPECT_GT(iterates, 30) << method;
+    EXPECT_GT(measured(sim, "obstacle0_contacts"), 0.0) << method;  // it landed
+    if (std::string(method) == "lbfgs") {
+      const double weight = box_mass(scene) * 200.0;
+      EXPECT_NEAR(-measured(sim, "obstacle0_force_y"), weight, 0.05 * weight);
+    }
   }
 }
 

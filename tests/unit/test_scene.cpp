@@ -1121,9 +1121,17 @@ TEST(Scene, ContactErrorsNameTheKey) {
   expect_has(error_of(scene + "[contact]\ndistance = -1\n"), "contact.distance must be >= 0");
   expect_has(error_of(scene + "[contact]\nsmoothing_velocity = 0\n"),
              "contact.smoothing_velocity must be > 0");
-  // The barrier lives in the Chebyshev iteration's energy only (so far).
-  expect_has(error_of(scene + "[solver]\nmethod = \"lbfgs\"\n"),
-             "obstacles with contact.method = \"energy\" need solver.method = chebyshev");
+  // The barrier is evaluated by chebyshev, gd, jacobi_gd and lbfgs (so far),
+  // the last three with Jacobi's D.
+  for (const char* method : {"gd", "jacobi_gd", "lbfgs"})
+    EXPECT_NO_THROW(parse(scene + "[solver]\nmethod = \"" + method + "\"\n")) << method;
+  EXPECT_NO_THROW(parse(scene + "[solver]\npreconditioner = \"multilevel\"\n"));
+  expect_has(error_of(scene + "[solver]\nmethod = \"newton\"\n"),
+             "obstacles ([[obstacle]]) with contact.method = \"energy\" (a barrier in eps) need "
+             "solver.method = chebyshev, gd, jacobi_gd or lbfgs (got newton)");
+  expect_has(error_of(scene + "[solver]\nmethod = \"lbfgs\"\npreconditioner = \"multilevel\"\n"),
+             "solver.preconditioner = \"multilevel\" knows nothing of the contact barrier of "
+             "obstacles ([[obstacle]]) with solver.method = lbfgs");
   EXPECT_NO_THROW(
       parse(scene + "[contact]\nmethod = \"projection\"\n[solver]\nmethod = \"lbfgs\"\n"));
   // An override is checked like a file entry.
@@ -1253,15 +1261,17 @@ TEST(Scene, ContactBetweenBodiesAsABarrierNeedsAMethodThatEvaluatesItWithJacobi)
   EXPECT_EQ(parse(two + "[contact]\nfriction = 0.3\n").contact.friction, 0.3);
   expect_has(error_of(two + "[contact]\nfriction = -0.3\n"),
              "contact.friction must be >= 0, got -0.3");
-  expect_has(error_of(two + "[solver]\nmethod = \"lbfgs\"\n"),
-             "scene.toml:7: a scene of several bodies ([[body]]) has contact between bodies, whose "
-             "barrier (contact.method = \"energy\") solver.method = chebyshev alone evaluates (got "
-             "lbfgs); contact.method = \"projection\" works with every method");
+  EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"lbfgs\"\n"));
+  expect_has(error_of(two + "[solver]\nmethod = \"nesterov\"\n"),
+             "scene.toml:7: a scene of several bodies ([[body]], contact between them) with "
+             "contact.method = \"energy\" (a barrier in eps) need solver.method = chebyshev, gd, "
+             "jacobi_gd or lbfgs (got nesterov); contact.method = \"projection\" works with every "
+             "method");
   expect_has(error_of(two + "[solver]\npreconditioner = \"multilevel\"\n"),
-             "solver.preconditioner = \"multilevel\" knows nothing of the contact barrier between "
-             "bodies");
+             "solver.preconditioner = \"multilevel\" knows nothing of the contact barrier of a "
+             "scene of several bodies");
   expect_has(error_of(kBoxScene, {"contact.self=true", "solver.method=\"ncg\""}),
-             "contact.self = true has contact between bodies");
+             "contact.self = true (contact between bodies) with contact.method");
   // The projection pass runs after any method and preconditioner.
   const std::string projection = "[contact]\nmethod = \"projection\"\n";
   EXPECT_NO_THROW(parse(two + projection + "[solver]\nmethod = \"lbfgs\"\n"));

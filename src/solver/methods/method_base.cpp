@@ -1,6 +1,7 @@
 #include "solver/methods/method_base.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "kernels/vertex.hpp"
@@ -17,6 +18,7 @@ MethodBase<Real>::MethodBase(LocalProblem<Real>& problem, const SolverSpec& spec
       alpha_(spec.alpha_max),
       fixed_(problem.fixed_axes()),
       preconditioner_(make_host_preconditioner(problem, spec)),
+      barrier_(problem.has_contact_barrier()),
       steps_since_refresh_(spec.preconditioner_refresh),
       own_guess_(own_guess) {
   const std::size_t n = 3 * static_cast<std::size_t>(problem.num_vertices());
@@ -39,8 +41,7 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
   alpha_ = std::min(spec_.alpha_max, alpha_ / spec_.gamma);
   check_ = EnergyCheck(problem_.energy_changes_within_step(), problem_.energy_noise_floor());
   if (!own_guess_) {
-    initial_local_energy_ =
-        check_.reevaluate() ? Energy{} : problem_.local_energy(q_.data(), y_.data(), qt_.data());
+    initial_local_energy_ = check_.reevaluate() ? Energy{} : local_energy_at(q_.data());
     q_checked_ = q_;
     report(0);
   }
@@ -64,6 +65,7 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
 template <class Real>
 void MethodBase<Real>::gradient(const Real* q, Real* g, Real* diag) {
   const auto assembled = problem_.elastic_gradient(q, diag != nullptr);
+  if (barrier_) problem_.add_contact_gradient(q, qt_.data(), assembled.width);
   const Real* a = assembled.values;
   const int width = assembled.width;
   const auto& mass = problem_.mass();
@@ -80,6 +82,30 @@ void MethodBase<Real>::gradient(const Real* q, Real* g, Real* diag) {
                        : dof_gradient(terms, mass[v], a[width * v + axis], q[dof], y_[dof],
                                       qt_[dof], force[dof], axis);
   }
+}
+
+template <class Real>
+Real* MethodBase<Real>::move_target() {
+  if (!barrier_) return q_.data();
+  target_ = q_;
+  return target_.data();
+}
+
+template <class Real>
+void MethodBase<Real>::finish_move() {
+  if (!barrier_) return;
+  problem_.guard_contact_moves(q_.data(), target_.data());
+  q_.swap(target_);
+}
+
+template <class Real>
+Energy MethodBase<Real>::local_energy_at(const Real* q) {
+  Energy e = problem_.local_energy(q, y_.data(), qt_.data());
+  if (BodyContact<Real>* bodies = problem_.body_contact()) {
+    const double pairs = bodies->local_energy(q);
+    e = {e.value + pairs, e.magnitude + in_double_units<Real>(std::abs(pairs))};
+  }
+  return e;
 }
 
 template <class Real>
@@ -123,12 +149,17 @@ template <class Real>
 typename MethodBase<Real>::Check MethodBase<Real>::check(int k, StepStats& stats) {
   const bool last = k + 1 == spec_.iterations;
   if ((k + 1) % spec_.check_interval != 0 && !last) return Check::none;
-  const Energy local[2] = {problem_.local_energy(q_.data(), y_.data(), qt_.data()),
-                           check_.reevaluate()
-                               ? problem_.local_energy(q_checked_.data(), y_.data(), qt_.data())
-                               : initial_local_energy_};
-  if (check_.accept(problem_.global_energies(local, check_.count()), stats)) {
+  const Energy local[2] = {local_energy_at(q_.data()), check_.reevaluate()
+                                                           ? local_energy_at(q_checked_.data())
+                                                           : initial_local_energy_};
+  const EnergySums sums = problem_.global_energies(local, check_.count());
+  BodyContact<Real>* bodies = problem_.body_contact();
+  if (check_.accept(sums, stats)) {
     q_checked_ = q_;
+    // Pairs between bodies found again where a surface vertex has drifted
+    // half its cap from where they were found (as chebyshev_descent.cpp).
+    if (bodies && problem_.global_max(bodies->needs_rebuild(q_.data()) ? 1.0 : 0.0) > 0)
+      bodies->rebuild_here(q_.data());
     // The accuracy target from the accepted checks' energies
     // (solver/check_history.hpp): with a bound as chebyshev reads it (before
     // the bound's count only when far below the target), without one on a
@@ -156,6 +187,9 @@ typename MethodBase<Real>::Check MethodBase<Real>::check(int k, StepStats& stats
     return Check::accepted;
   }
   q_ = q_checked_;
+  // A path the guard could not prove free of crossings made the energy
+  // infinite on every rank: the safe guard for the rest of the step.
+  if (bodies && !sums.finite[0]) bodies->use_safe_guard();
   history_.restart(check_.checked_energy());
   restart_at_ = k + 1;
   if (preconditioner_) {

@@ -46,8 +46,18 @@ class MethodBase : public Stepper<Real> {
   virtual void iterate(StepStats& stats) = 0;
 
   // g = grad eps(q), 0 on held dofs; with diag not null also the clamped
-  // Hessian diagonal (kernels/vertex.hpp dof_diagonal) per dof.
+  // Hessian diagonal (kernels/vertex.hpp dof_diagonal) per dof. Contact
+  // barriers (contact.method = "energy") are part of eps.
   void gradient(const Real* q, Real* g, Real* diag);
+  // An update of q_ in two calls: move_target() is where to write the new
+  // iterate (initially q_), and finish_move() makes it q_. With contact
+  // barriers the target is a copy of q_ and finish_move() first cuts each
+  // surface vertex's move from q_ as chebyshev's guard does, each move
+  // proven free of crossings before it is made (LocalProblem::
+  // guard_contact_moves; gradient(q_) must be the last gradient
+  // evaluated); without, q_ is updated in place, as before.
+  Real* move_target();
+  void finish_move();
   // z = P^-1 g (z may be g): D^-1 (d, the diagonal the method keeps) or the
   // preconditioner solver.preconditioner names, which MethodBase rebuilds at
   // each step's initial guess (every solver.preconditioner_refresh steps)
@@ -89,6 +99,13 @@ class MethodBase : public Stepper<Real> {
  private:
   const std::vector<std::uint8_t>& fixed_;
   std::unique_ptr<Preconditioner<Real>> preconditioner_;
+  // This rank's share of eps(q) with the pairs between bodies (each pair
+  // counted once; +inf when the guard could not prove a path free of
+  // crossings) besides LocalProblem::local_energy's terms.
+  Energy local_energy_at(const Real* q);
+
+  bool barrier_;               // contact barriers in eps
+  std::vector<Real> target_;   // move_target() with a barrier
   std::vector<Real> scratch_;  // P^-1 g in place
   int steps_since_refresh_;    // a run rebuilds P^-1 at its first step
   const Real* step_velocity_ = nullptr;
