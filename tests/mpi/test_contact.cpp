@@ -105,40 +105,52 @@ TEST(Contact, BlockOnAnInclineSticksOrSlidesAsCoulombSays) {
   }
 }
 
-// A box falls 1 m under 200 m/s^2 of gravity and meets the floor at 20 m/s
-// with dt = 1/30 (it would cross 0.67 m in one step), soft (its impact is
-// supersonic: it crushes) and stiff (it bounces): no iterate of any step,
-// observed after every iteration, has a surface vertex on or below the floor
-// or not finite (a diverging trial moves nothing the guard cannot bound, and
-// its check rolls it back), every step ends finite, and the body ends on the
-// floor.
+// A box that falls 1 m under 200 m/s^2 of gravity and meets the floor at
+// 20 m/s with dt = 1/30 (it would cross 0.67 m in one step), with `method`.
+Scene hard_impact(const char* method, double young, int iterations) {
+  Scene scene = box_on_floor(1.0, 0.0);
+  scene.gravity = {0.0, -200.0, 0.0};
+  scene.material.young = young;
+  scene.solver.method = method;
+  scene.time.dt = 1.0 / 30.0;
+  scene.solver.accuracy = 1e-3;
+  scene.solver.iterations = iterations;
+  return scene;
+}
+
+// Runs 30 steps of `sim` with every iterate observed (each step must end
+// finite); returns the lowest y any surface vertex had in any iterate (-1
+// for a coordinate not finite), over all ranks, and counts the iterates.
+double lowest_surface_y_of_every_iterate(Simulation<double>& sim, long& iterates) {
+  const std::vector<index_t>& surface = sim.problem().contact()->vertices();
+  double lowest = 1e300;
+  sim.stepper().set_observer([&](int, const double* q, const double*, const double*) {
+    ++iterates;
+    for (index_t v : surface) {
+      const double y = q[3 * v + 1];
+      lowest = std::min(lowest, std::isfinite(q[3 * v]) && std::isfinite(q[3 * v + 2]) ? y : -1.0);
+    }
+  });
+  for (int frame = 0; frame < 30; ++frame) EXPECT_TRUE(sim.step().finite) << "frame " << frame;
+  sim.stepper().set_observer(nullptr);  // it refers to this frame's `lowest`
+  MPI_Allreduce(MPI_IN_PLACE, &lowest, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  return lowest;
+}
+
+// The hard impact, soft (it is supersonic: the box crushes) and stiff (it
+// bounces): no iterate of any step, observed after every iteration, has a
+// surface vertex on or below the floor or not finite (a diverging trial
+// moves nothing the guard cannot bound, and its check rolls it back), every
+// step ends finite, and the body ends on the floor carrying its weight.
 TEST(Contact, NoIterateOfAHardImpactCrossesTheFloor) {
   for (double young : {1e5, 1e7}) {
-    Scene scene = box_on_floor(1.0, 0.0);
-    scene.gravity = {0.0, -200.0, 0.0};
-    scene.material.young = young;
-    scene.time.dt = 1.0 / 30.0;
-    scene.solver.accuracy = 1e-3;
-    scene.solver.iterations = 96;
+    const Scene scene = hard_impact("chebyshev", young, 96);
     const Mesh mesh = build_scene_mesh(scene.mesh);
     Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
-    const std::vector<index_t>& surface = sim.problem().contact()->vertices();
-    double lowest = 1e300;
     long iterates = 0;
-    sim.stepper().set_observer([&](int, const double* q, const double*, const double*) {
-      ++iterates;
-      for (index_t v : surface) {
-        const double y = q[3 * v + 1];
-        lowest =
-            std::min(lowest, std::isfinite(q[3 * v]) && std::isfinite(q[3 * v + 2]) ? y : -1.0);
-      }
-    });
-    for (int frame = 0; frame < 30; ++frame)
-      ASSERT_TRUE(sim.step().finite) << "E " << young << " frame " << frame;
-    MPI_Allreduce(MPI_IN_PLACE, &lowest, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+    const double lowest = lowest_surface_y_of_every_iterate(sim, iterates);
     EXPECT_GT(lowest, 0.0) << "E " << young << ": a surface vertex reached y = " << lowest;
     EXPECT_GT(iterates, 30);
-    // Settled on the floor by the end, carrying its weight (200 m/s^2 of it).
     const double weight = box_mass(scene) * 200.0;
     EXPECT_GT(measured(sim, "obstacle0_contacts"), 0.0) << "E " << young;
     EXPECT_NEAR(-measured(sim, "obstacle0_force_y"), weight, 0.05 * weight) << "E " << young;
@@ -146,34 +158,16 @@ TEST(Contact, NoIterateOfAHardImpactCrossesTheFloor) {
 }
 
 // The barrier in the first-order methods (gd, jacobi_gd, lbfgs evaluate it
-// and guard each update as chebyshev does): the box of the test above meets
-// the floor at 20 m/s and no observed iterate of any method has a surface
-// vertex on or below it or not finite; with lbfgs it settles carrying its
-// weight.
+// and guard each update as chebyshev does): at the hard impact no observed
+// iterate of any of them has a surface vertex on or below the floor or not
+// finite; the box lands, and with lbfgs settles carrying its weight.
 TEST(Contact, TheFirstOrderMethodsKeepEveryIterateOutside) {
   for (const char* method : {"gd", "jacobi_gd", "lbfgs"}) {
-    Scene scene = box_on_floor(1.0, 0.0);
-    scene.gravity = {0.0, -200.0, 0.0};
-    scene.solver.method = method;
-    scene.time.dt = 1.0 / 30.0;
-    scene.solver.accuracy = 1e-3;
-    scene.solver.iterations = 200;
+    const Scene scene = hard_impact(method, 1e6, 200);
     const Mesh mesh = build_scene_mesh(scene.mesh);
     Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
-    const std::vector<index_t>& surface = sim.problem().contact()->vertices();
-    double lowest = 1e300;
     long iterates = 0;
-    sim.stepper().set_observer([&](int, const double* q, const double*, const double*) {
-      ++iterates;
-      for (index_t v : surface) {
-        const double y = q[3 * v + 1];
-        lowest =
-            std::min(lowest, std::isfinite(q[3 * v]) && std::isfinite(q[3 * v + 2]) ? y : -1.0);
-      }
-    });
-    for (int frame = 0; frame < 30; ++frame)
-      ASSERT_TRUE(sim.step().finite) << method << " frame " << frame;
-    MPI_Allreduce(MPI_IN_PLACE, &lowest, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+    const double lowest = lowest_surface_y_of_every_iterate(sim, iterates);
     EXPECT_GT(lowest, 0.0) << method << ": a surface vertex reached y = " << lowest;
     EXPECT_GT(iterates, 30) << method;
     EXPECT_GT(measured(sim, "obstacle0_contacts"), 0.0) << method;  // it landed

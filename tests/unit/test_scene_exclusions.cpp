@@ -53,6 +53,8 @@ std::vector<PairCase> pair_cases() {
        "mesh.box.cells=[1,1,1]"},
       {"mesh.file", "mesh.ball", "", "mesh.file = \"a.msh\"\n", "mesh.ball.cells = 3\n",
        "mesh.file = \"a.msh\"\nmesh.ball.cells = 3\n", "mesh.file=a.msh", "mesh.ball.cells=3"},
+      {"mesh.file", "mesh.car", "", "mesh.file = \"a.msh\"\n", "mesh.car.cells = 12\n",
+       "mesh.file = \"a.msh\"\nmesh.car.cells = 12\n", "mesh.file=a.msh", "mesh.car.cells=12"},
       {"mesh.helix.resolution", "mesh.helix.preset", "mesh.generator = \"double_helix\"\n",
        "mesh.helix.resolution = 2\n", "mesh.helix.preset = \"41k\"\n",
        "mesh.helix.resolution = 2\nmesh.helix.preset = \"41k\"\n", "mesh.helix.resolution=7.15",
