@@ -204,6 +204,7 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   double total_ms = 0;
   long total_iterations = 0;
   int stalled_steps = 0, retried_steps = 0, resolution_limited_steps = 0;
+  int capped_steps = 0;  // ran to solver.iterations short of solver.accuracy
   constexpr int kStallWarnings = 5;
   int nonfinite_steps = 0, nonfinite_warnings = 0;  // the latter on this rank
   const int checkpoint_every = scene.output.checkpoint_every;
@@ -271,6 +272,11 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
     // double: warned once. In double it is a body that barely moved this
     // step (the target is relative to the step's decrease): counted below.
     resolution_limited_steps += step.at_resolution ? 1 : 0;
+    capped_steps += scene.solver.accuracy > 0 && step.finite && !step.stalled &&
+                            step.iterations >= scene.solver.iterations &&
+                            !(step.error_estimate <= scene.solver.accuracy)
+                        ? 1
+                        : 0;
     if (rank == 0 && sizeof(Real) == 4 && step.at_resolution && resolution_limited_steps == 1)
       warn(
           "frame %d: the step's energy changes fell within float's round-off with its error "
@@ -323,6 +329,20 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
         "estimates short of solver.accuracy = %g (a step whose body barely moves has little "
         "decrease to resolve its target against)",
         resolution_limited_steps, frames_run, precision, scene.solver.accuracy);
+  // Pressed contact (a resting stack, an impact between large bodies)
+  // spreads the spectrum Chebyshev's rate follows with Jacobi's D; lbfgs
+  // took 3.6-16x less time there (bench/results/contact/README.md).
+  const bool barrier =
+      scene.contact.method == "energy" && (!scene.obstacles.empty() || has_body_contact(scene));
+  if (talk && capped_steps > 0)
+    inform(
+        "%d of %d steps ran to solver.iterations = %d with their error estimates short of "
+        "solver.accuracy = %g%s",
+        capped_steps, frames_run, scene.solver.iterations, scene.solver.accuracy,
+        barrier && scene.solver.method == "chebyshev"
+            ? "; where contact presses, solver.method = \"lbfgs\" often converges in far fewer "
+              "iterations (docs/contact.md, Which to choose)"
+            : "");
   if (rank == 0 && stalled_steps > 0)
     warn("%d of %d steps ended at alpha_min (column `stalled` in stats.csv)", stalled_steps,
          frames_run);
