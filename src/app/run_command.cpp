@@ -332,14 +332,12 @@ int run_scene_in(MPI_Comm comm, const Scene& scene, const RunOptions& options,
   // Pressed contact (a resting stack, an impact between large bodies)
   // spreads the spectrum Chebyshev's rate follows with Jacobi's D; lbfgs
   // took 3.6-16x less time there (bench/results/contact/README.md).
-  const bool barrier =
-      scene.contact.method == "energy" && (!scene.obstacles.empty() || has_body_contact(scene));
   if (talk && capped_steps > 0)
     inform(
         "%d of %d steps ran to solver.iterations = %d with their error estimates short of "
         "solver.accuracy = %g%s",
         capped_steps, frames_run, scene.solver.iterations, scene.solver.accuracy,
-        barrier && scene.solver.method == "chebyshev"
+        has_contact_barrier(scene) && scene.solver.method == "chebyshev"
             ? "; where contact presses, solver.method = \"lbfgs\" often converges in far fewer "
               "iterations (docs/contact.md, Which to choose)"
             : "");

@@ -328,13 +328,12 @@ int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::st
   // Newton knows nothing of a contact barrier (obstacles or pairs between
   // bodies with contact.method = "energy"), nor do the methods the scene
   // checks refuse with it: the default cases are then those that descend it.
-  const bool barrier =
-      scene.contact.method == "energy" && (!scene.obstacles.empty() || has_body_contact(scene));
+  const bool barrier = has_contact_barrier(scene);
   if (options.case_texts.empty())
-    options.case_texts =
-        barrier ? std::vector<std::string>{"chebyshev", "gd", "jacobi_gd", "lbfgs"}
-                : std::vector<std::string>{"chebyshev", "gd",       "jacobi_gd", "ncg",
-                                           "lbfgs",     "nesterov", "newton"};
+    options.case_texts = barrier
+                             ? std::vector<std::string>{"chebyshev", "gd", "jacobi_gd", "lbfgs"}
+                             : std::vector<std::string>{"chebyshev", "gd",       "jacobi_gd", "ncg",
+                                                        "lbfgs",     "nesterov", "newton"};
   for (const std::string& text : options.case_texts)
     options.cases.push_back(parse_study_case(text));
   std::vector<SolverSpec> specs;

@@ -162,14 +162,12 @@ PairTerms<Real> BodyContact<Real>::terms_of(PairKind kind, std::size_t pair,
 }
 
 template <class Real>
-Real BodyContact<Real>::gather_pair(const std::vector<Real>& p, const std::array<index_t, 4>& v,
-                                    Real* x) const {
+Real BodyContact<Real>::gather_pair_with_stiffness(const std::vector<Real>& p,
+                                                   const std::array<index_t, 4>& v, Real* x) const {
+  gather_pair(p, v, x);
   const std::vector<Real>& kappa = halo_.carried();
   Real k = 0;
-  for (int j = 0; j < 4; ++j) {
-    k += kappa[v[j]] / Real(4);
-    for (int i = 0; i < 3; ++i) x[3 * j + i] = p[3 * static_cast<std::size_t>(v[j]) + i];
-  }
+  for (int j = 0; j < 4; ++j) k += kappa[v[j]] / Real(4);
   return k;
 }
 
@@ -195,7 +193,7 @@ void BodyContact<Real>::for_each_pair(bool skip_far, Visit&& visit) {
           continue;
         }
       }
-      const Real k = gather_pair(p, v, x);
+      const Real k = gather_pair_with_stiffness(p, v, x);
       const PairKind pair_kind = kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge;
       const double distance = visit(pair_kind, v, x, k, pair);
       if (distance >= 0) {
@@ -277,7 +275,7 @@ double BodyContact<Real>::measured_energy(const Real* q) const {
   for_each_contact_pair(pairs_, [&](PairKind kind, const std::array<index_t, 4>& v) {
     const std::size_t index = pair++;
     if (!counted_here(halo_, v)) return;
-    const Real k = gather_pair(p, v, x);
+    const Real k = gather_pair_with_stiffness(p, v, x);
     sum += static_cast<double>(terms_of(kind, index, v, x, k, PairHessian::none).energy);
   });
   return sum;
@@ -314,6 +312,33 @@ void BodyContact<Real>::add_hessian_product(const Real* q, const Real* v, Real* 
 
 template <class Real>
 void BodyContact<Real>::guard(Real* q, Real* q_next, const std::uint8_t* fixed) {
+  cut_move(q, q_next, fixed);
+  for (index_t c = 0; c < halo_.num_local(); ++c) {
+    const std::size_t v = static_cast<std::size_t>(halo_.local_vertex()[c]);
+    if (!fixed[v] && cut_[c] < 1)
+      for (int i = 0; i < 3; ++i) q[3 * v + i] = q_next[3 * v + i];
+  }
+}
+
+template <class Real>
+void BodyContact<Real>::guard_proven(const Real* q, Real* q_next, const std::uint8_t* fixed) {
+  cut_move(q, q_next, fixed);
+  update_ghosts(q_next);
+  const bool proven = reduction_.max_of(crossing_ ? 1.0 : 0.0) == 0;
+  crossing_ = false;
+  if (proven) return;
+  // Only the path guard leaves a move unproven, and it kept each contact
+  // vertex's proposal in proposed_: the move is made again from there.
+  for (index_t c = 0; c < halo_.num_local(); ++c) {
+    const std::size_t v = static_cast<std::size_t>(halo_.local_vertex()[c]);
+    for (int i = 0; i < 3; ++i) q_next[3 * v + i] = proposed_[3 * c + i];
+  }
+  safe_ = true;
+  cut_move(q, q_next, fixed);
+}
+
+template <class Real>
+void BodyContact<Real>::cut_move(const Real* q, Real* q_next, const std::uint8_t* fixed) {
   if (safe_) {
     cut_by_nearest_gap(q, q_next, fixed);
   } else if (any_pairs_) {
@@ -334,17 +359,7 @@ void BodyContact<Real>::guard(Real* q, Real* q_next, const std::uint8_t* fixed) 
         q_next[3 * v + i] = static_cast<Real>(anchor_[3 * c + i] + cap_ / drift * to[i]);
       cut_[c] = 0;
     }
-    if (cut_[c] < 1)
-      for (int i = 0; i < 3; ++i) q[3 * v + i] = q_next[3 * v + i];
   }
-}
-
-template <class Real>
-bool BodyContact<Real>::move_proven(const Real* q_next) {
-  update_ghosts(q_next);
-  const bool proven = reduction_.max_of(crossing_ ? 1.0 : 0.0) == 0;
-  crossing_ = false;
-  return proven;
 }
 
 template <class Real>
@@ -445,16 +460,12 @@ void BodyContact<Real>::for_each_path(const std::vector<Real>& from, const std::
   measure_moves(from, to);
   Real x0[12], x1[12];
   std::size_t pair = 0;
-  for (int kind = 0; kind < 2; ++kind)
-    for (const auto& v : kind == 0 ? pairs_.vertex_triangle : pairs_.edge_edge) {
-      if (skip(pair++, v)) continue;
-      for (int k = 0; k < 4; ++k)
-        for (int i = 0; i < 3; ++i) {
-          x0[3 * k + i] = from[3 * static_cast<std::size_t>(v[k]) + i];
-          x1[3 * k + i] = to[3 * static_cast<std::size_t>(v[k]) + i];
-        }
-      visit(kind == 0 ? PairKind::vertex_triangle : PairKind::edge_edge, v, x0, x1);
-    }
+  for_each_contact_pair(pairs_, [&](PairKind kind, const std::array<index_t, 4>& v) {
+    if (skip(pair++, v)) return;
+    gather_pair(from, v, x0);
+    gather_pair(to, v, x1);
+    visit(kind, v, x0, x1);
+  });
 }
 
 template <class Real>

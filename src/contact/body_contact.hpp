@@ -49,6 +49,12 @@ inline bool has_body_contact(const Scene& scene) {
   return scene.bodies.size() > 1 || scene.contact.self;
 }
 
+// Whether a scene's eps holds contact barriers: obstacles or contact between
+// bodies with contact.method = "energy".
+inline bool has_contact_barrier(const Scene& scene) {
+  return scene.contact.method == "energy" && (!scene.obstacles.empty() || has_body_contact(scene));
+}
+
 template <class Real>
 class BodyContact {
  public:
@@ -94,13 +100,14 @@ class BodyContact {
   // every iteration however hard the barrier pushes back.
   void guard(Real* q, Real* q_next, const std::uint8_t* fixed);
   // For methods that take no momentum from one iterate to the next (gd,
-  // jacobi_gd, lbfgs): collective with the contact neighbours and one
-  // allreduce. Whether the move just guarded from the last add_gradient's q
-  // to q_next is proven free of crossings on every rank (guard() leaves it
-  // to the next exchange otherwise); the ghosts then hold q_next's
-  // positions. When it is not, nothing is flagged for the next energy: the
-  // caller cuts the move again with the safe guard (use_safe_guard()).
-  bool move_proven(const Real* q_next);
+  // jacobi_gd, lbfgs): the move q -> q_next cut as guard() cuts it (q left
+  // as it is), then proven free of crossings at once on every rank (one more
+  // neighbour message and one allreduce; guard() leaves that to the next
+  // exchange). Where any rank cannot prove it, every rank switches to the
+  // safe guard for the rest of the step and cuts the move again from its
+  // proposal, so no iterate crosses. The ghosts then hold q_next's
+  // positions (the unproven one's after a second cut).
+  void guard_proven(const Real* q, Real* q_next, const std::uint8_t* fixed);
   // The safe guard for the rest of the step. Called on every rank after a
   // check whose energy was not finite, which an unproven path on any rank
   // makes it: switched on the detecting rank alone, its neighbours went on
@@ -151,10 +158,15 @@ class BodyContact {
   // The guards (guard()): cutting each vertex's move by the fractions of
   // its pairs' paths (relative), or to its nearest pair's gap (safe).
   void cut_by_pair_paths(Real* q_next, const std::uint8_t* fixed);
+  // Either of those (the safe one once switched on, none without pairs),
+  // then the drift cap about the guess; cut_ holds each local contact
+  // vertex's fraction (< 1: cut).
+  void cut_move(const Real* q, Real* q_next, const std::uint8_t* fixed);
   void cut_by_nearest_gap(const Real* q, Real* q_next, const std::uint8_t* fixed);
   // The pair's 12 coordinates from `p` (3 per contact vertex) into x; returns
   // its stiffness, the mean of its vertices'.
-  Real gather_pair(const std::vector<Real>& p, const std::array<index_t, 4>& v, Real* x) const;
+  Real gather_pair_with_stiffness(const std::vector<Real>& p, const std::array<index_t, 4>& v,
+                                  Real* x) const;
   // The pair's barrier and friction terms at x (its 12 coordinates).
   PairTerms<Real> terms_of(PairKind kind, std::size_t pair, const std::array<index_t, 4>& v,
                            const Real* x, Real kappa, PairHessian hessian) const;

@@ -65,13 +65,6 @@ double BodyProjection<Real>::least_distance(const ContactPairs& pairs,
 }
 
 template <class Real>
-void BodyProjection<Real>::gather_pair(const std::vector<Real>& x, const std::array<index_t, 4>& v,
-                                       Real* out) const {
-  for (int k = 0; k < 4; ++k)
-    for (int i = 0; i < 3; ++i) out[3 * k + i] = x[3 * static_cast<std::size_t>(v[k]) + i];
-}
-
-template <class Real>
 double BodyProjection<Real>::find_constraints(const Real* qt, const Real* q, bool first) {
   const Timed timed(seconds_.search);
   halo_.rebuild(qt, dh_, inv_mass_, q);

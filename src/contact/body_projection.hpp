@@ -87,7 +87,6 @@ class BodyProjection {
   // island keeps its momentum and the sweeps are left gaps they can close
   // without crushing elements.
   void cut_deep_islands(Real* q, const Real* qt);
-  void gather_pair(const std::vector<Real>& x, const std::array<index_t, 4>& v, Real* out) const;
   // The least distance of `pairs` at x (3 per contact vertex; 1e300: none).
   double least_distance(const ContactPairs& pairs, const std::vector<Real>& x) const;
 

@@ -41,6 +41,14 @@ void for_each_contact_pair(const ContactPairs& pairs, Visit&& visit) {
   for (const auto& v : pairs.edge_edge) visit(PairKind::edge_edge, v);
 }
 
+// A pair's 12 coordinates (its 4 vertices' xyz) from x (3 per contact
+// vertex) into out.
+template <class Real>
+void gather_pair(const std::vector<Real>& x, const std::array<index_t, 4>& v, Real* out) {
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 3; ++i) out[3 * k + i] = x[3 * static_cast<std::size_t>(v[k]) + i];
+}
+
 // What the stats report of the pairs on one rank (summed or reduced over
 // ranks by the caller).
 struct PairStats {

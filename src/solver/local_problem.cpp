@@ -1,6 +1,5 @@
 #include "solver/local_problem.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -375,18 +374,7 @@ void LocalProblem<Real>::guard_contact_moves(const Real* q, Real* q_next) {
     HostExec host;
     loops::guard_moves(host, 0, contact_->view(), fixed_.data(), q, q_next);
   }
-  if (!body_contact_) return;
-  // The pair guard sets the cut vertices' q to q_next (chebyshev's momentum):
-  // it gets a copy, and the proposal is kept for a second cut.
-  const std::size_t n = 3 * static_cast<std::size_t>(num_vertices());
-  guard_from_.assign(q, q + n);
-  proposal_.assign(q_next, q_next + n);
-  body_contact_->guard(guard_from_.data(), q_next, fixed_.data());
-  if (body_contact_->move_proven(q_next)) return;
-  body_contact_->use_safe_guard();
-  guard_from_.assign(q, q + n);
-  std::copy(proposal_.begin(), proposal_.end(), q_next);
-  body_contact_->guard(guard_from_.data(), q_next, fixed_.data());
+  if (body_contact_) body_contact_->guard_proven(q, q_next, fixed_.data());
 }
 
 template <class Real>

@@ -90,8 +90,8 @@ class LocalProblem {
   // chebyshev, which lets its next energy check roll back a move whose
   // pair paths could not be proven, each move is proven at once (one more
   // neighbour message and one allreduce per iteration with pairs) and,
-  // where it is not, cut again by the safe guard (BodyContact::
-  // use_safe_guard, for the rest of the step), so no iterate crosses.
+  // where it is not, cut again by the safe guard for the rest of the step
+  // (BodyContact::guard_proven), so no iterate crosses.
   // Collective with the contact neighbours.
   void guard_contact_moves(const Real* q, Real* q_next);
   // The step's result q corrected by the projection pass (contact.method =
@@ -201,7 +201,6 @@ class LocalProblem {
   std::unique_ptr<ObstacleContact<Real>> contact_;
   std::unique_ptr<BodyContact<Real>> body_contact_;
   std::unique_ptr<BodyProjection<Real>> body_projection_;
-  std::vector<Real> guard_from_, proposal_;  // guard_contact_moves(), with pairs
 };
 
 }  // namespace descent

@@ -37,7 +37,7 @@ python=${PYTHON:-/usr/bin/python3}  # Debian's, where apt installs h5py and matp
 "$python" -c 'import matplotlib' 2>/dev/null || skip "no matplotlib for $python (Debian: python3-matplotlib)"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 
-tmp=$(mktemp -d /tmp/descent-slurm.XXXXXX)
+tmp=$(mktemp -d -t descent-slurm.XXXXXX)
 daemons=()
 jobs=()
 show_logs() {

@@ -25,16 +25,17 @@ void GradientDescent<Real>::iterate(StepStats& stats) {
       scale = static_cast<Real>(this->problem_.global_max(static_cast<double>(local)));
     }
     const Real alpha = static_cast<Real>(this->alpha_);
-    Real* q = this->move_target();
+    const Real* q = this->q_.data();
+    Real* next = this->move_target();
     if (jacobi_ && this->preconditioner()) {
       // P^-1 g in place of g (the gradient is not needed after).
       this->precondition(g_.data(), d_.data(), d_.data());
 #pragma omp parallel for schedule(static)
-      for (std::size_t dof = 0; dof < n; ++dof) q[dof] -= alpha * d_[dof];
+      for (std::size_t dof = 0; dof < n; ++dof) next[dof] = q[dof] - alpha * d_[dof];
     } else {
 #pragma omp parallel for schedule(static)
       for (std::size_t dof = 0; dof < n; ++dof)
-        q[dof] -= alpha * g_[dof] / (jacobi_ ? d_[dof] : scale);
+        next[dof] = q[dof] - alpha * g_[dof] / (jacobi_ ? d_[dof] : scale);
     }
     this->finish_move();
     stats.iterations = k + 1;

@@ -74,8 +74,8 @@ void Lbfgs<Real>::iterate(StepStats& stats) {
     g_last_ = g_;
     have_last = true;
     const Real alpha = static_cast<Real>(this->alpha_);
-    Real* q = this->move_target();
-    for (std::size_t dof = 0; dof < n; ++dof) q[dof] -= alpha * r_[dof];
+    Real* next = this->move_target();
+    for (std::size_t dof = 0; dof < n; ++dof) next[dof] = this->q_[dof] - alpha * r_[dof];
     this->finish_move();
     stats.iterations = k + 1;
     this->report(k + 1);

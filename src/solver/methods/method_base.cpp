@@ -87,7 +87,7 @@ void MethodBase<Real>::gradient(const Real* q, Real* g, Real* diag) {
 template <class Real>
 Real* MethodBase<Real>::move_target() {
   if (!barrier_) return q_.data();
-  target_ = q_;
+  target_.resize(q_.size());
   return target_.data();
 }
 

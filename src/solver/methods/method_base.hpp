@@ -49,9 +49,10 @@ class MethodBase : public Stepper<Real> {
   // Hessian diagonal (kernels/vertex.hpp dof_diagonal) per dof. Contact
   // barriers (contact.method = "energy") are part of eps.
   void gradient(const Real* q, Real* g, Real* diag);
-  // An update of q_ in two calls: move_target() is where to write the new
-  // iterate (initially q_), and finish_move() makes it q_. With contact
-  // barriers the target is a copy of q_ and finish_move() first cuts each
+  // An update of q_ in two calls: move_target() is where to write every dof
+  // of the new iterate (computed from q_, which it may be), and
+  // finish_move() makes it q_. With contact barriers the target is a
+  // buffer of its own and finish_move() first cuts each
   // surface vertex's move from q_ as chebyshev's guard does, each move
   // proven free of crossings before it is made (LocalProblem::
   // guard_contact_moves; gradient(q_) must be the last gradient
