@@ -8,9 +8,11 @@ local mesh, local order" and "set-up S s to the first step: mesh, solver, output
 built; output opened: mesh and frame 0 written). The methods are run in turn, round after
 round, so a change of the machine's load falls on all of them.
 
-  python3 bench/setup_10m.py --out bench/results/setup_10m/README.md
-  python3 bench/setup_10m.py --hugepages --out bench/results/setup_10m/hugepages.md
-  python3 bench/setup_10m.py --size 1M --runs 1 --methods rcb   # quick look
+Each method runs with glibc's malloc as it comes (4 KiB pages) and with transparent huge pages
+on malloc's maps (GLIBC_TUNABLES=glibc.malloc.hugetlb=1), the cases in turn in each round.
+
+  python3 bench/setup_10m.py --out bench/results/setup_10m/README.md   # 4k and huge
+  python3 bench/setup_10m.py --size 1M --runs 1 --methods rcb --pages huge   # quick look
 """
 import argparse
 import os
@@ -35,16 +37,16 @@ QUALITY_LINE = re.compile(r"partition \(([A-Za-z-]+)\): \d+ parts, imbalance ([0
                           r"(\d+)")
 
 
-# glibc's malloc asks for transparent huge pages (madvise) on the memory it maps: a 2 MiB page
-# faulted in where 512 pages of 4 KiB were, which is most of the set-up's time on a machine whose
-# page faults are dear (docs/partition.md).
-HUGEPAGES = "glibc.malloc.hugetlb=1"
+# The pages a run's malloc uses: glibc's defaults (4 KiB pages), or transparent huge pages
+# (madvise) on the memory it maps, a 2 MiB page faulted in where 512 pages of 4 KiB were
+# (docs/partition.md: which is faster depends on the machine's page faults).
+PAGES = {"4k": {}, "huge": {"GLIBC_TUNABLES": "glibc.malloc.hugetlb=1"}}
 
 
-def run_once(cmd, hugepages):
+def run_once(cmd, pages):
     env = mpi_env()
-    if hugepages:
-        env["GLIBC_TUNABLES"] = HUGEPAGES
+    env.pop("GLIBC_TUNABLES", None)
+    env.update(PAGES[pages])
     text = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
     setup, _, solver, output = (float(x) for x in re.search(
         r"set-up ([0-9.]+) s to the first step: mesh ([0-9.]+) s, solver ([0-9.]+) s, output "
@@ -64,22 +66,23 @@ def main():
     parser.add_argument("--iterations", type=int, default=16)
     parser.add_argument("--methods", nargs="+", default=["auto", "rcb"],
                         help="partition.method values compared")
-    parser.add_argument("--hugepages", action="store_true",
-                        help=f"run with GLIBC_TUNABLES={HUGEPAGES}")
+    parser.add_argument("--pages", nargs="+", default=["4k", "huge"], choices=list(PAGES),
+                        help="4k: glibc's defaults; huge: GLIBC_TUNABLES=glibc.malloc.hugetlb=1")
     parser.add_argument("--out", default="-")
     args = parser.parse_args()
 
-    samples = {method: [] for method in args.methods}
+    cases = [(method, pages) for pages in args.pages for method in args.methods]
+    samples = {case: [] for case in cases}
     commands = {}
     with tempfile.TemporaryDirectory() as scratch:
         scene = scene_file(scratch, RESOLUTIONS[args.size])
         for _ in range(args.runs):
-            for method in args.methods:
+            for method, pages in cases:
                 cmd = command(args.binary, args.ranks, scene, args.iterations, scratch, method,
                               None)
                 commands[method] = " ".join(cmd)
-                samples[method].append(run_once(cmd, args.hugepages))
-                print(method, samples[method][-1]["setup"], flush=True)
+                samples[(method, pages)].append(run_once(cmd, pages))
+                print(method, pages, samples[(method, pages)][-1]["setup"], flush=True)
 
     median = statistics.median
     lines = [
@@ -91,28 +94,31 @@ def main():
         f"- each run: 1 frame of {args.iterations} iterations (solver.accuracy = 0), no "
         "checkpoint, Jacobi preconditioner; seconds on rank 0 from the run's own log (output: "
         "the output opened, mesh and frame 0 written)",
-        f"- median of {args.runs} runs per method, the methods taken in turn in each round",
-        f"- malloc: GLIBC_TUNABLES={HUGEPAGES} (transparent huge pages on malloc's maps)"
-        if args.hugepages else "- malloc: glibc's defaults (4 KiB pages)",
+        f"- median of {args.runs} runs per case, the cases taken in turn in each round",
+        "- pages: 4k = glibc's malloc as it comes, huge = GLIBC_TUNABLES=glibc.malloc.hugetlb=1 "
+        "(transparent huge pages: " + Path("/sys/kernel/mm/transparent_hugepage/enabled")
+        .read_text().strip() + ")",
         "",
-        "| partition.method | partitioner | set-up s | " + " | ".join(PHASES)
+        "| partition.method | pages | partitioner | set-up s | " + " | ".join(PHASES)
         + " | cut faces | imbalance |",
-        "| --- | --- | --- | " + " | ".join("---" for _ in PHASES) + " | --- | --- |",
+        "| --- | --- | --- | --- | " + " | ".join("---" for _ in PHASES) + " | --- | --- |",
     ]
-    for method in args.methods:
-        s = samples[method]
+    for method, pages in cases:
+        s = samples[(method, pages)]
         phases = [median(x["phases"][k] for x in s) for k in range(len(PHASES))]
         lines.append(
-            f"| {method} | {s[0]['partitioner']} | {median(x['setup'] for x in s):.2f} | "
+            f"| {method} | {pages} | {s[0]['partitioner']} | {median(x['setup'] for x in s):.2f} | "
             + " | ".join(f"{p:.2f}" for p in phases)
             + f" | {s[0]['cut']} | {s[0]['imbalance']:.3f} |")
     lines += ["", "## Commands", ""]
-    lines += [f"- {method}: `{cmd}`" for method, cmd in commands.items()]
+    lines += [f"- {method}: `{cmd}` (huge: with GLIBC_TUNABLES=glibc.malloc.hugetlb=1 in the "
+              "environment)"
+              for method, cmd in commands.items()]
     lines += ["", "## Samples (set-up s; by phase in the table's order)", ""]
-    for method in args.methods:
-        lines.append(f"- {method}: " + "; ".join(
+    for method, pages in cases:
+        lines.append(f"- {method}, {pages}: " + "; ".join(
             f"{x['setup']:.2f} (" + " ".join(f"{p:.2f}" for p in x["phases"]) + ")"
-            for x in samples[method]))
+            for x in samples[(method, pages)]))
     write_report(lines, args.out)
 
 
