@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # The contact barrier in the methods that evaluate it (docs/contact.md,
-# Methods): chebyshev, lbfgs and jacobi_gd side by side on paper 2's
+# Methods): chebyshev, lbfgs, jacobi_gd and nesterov side by side on paper 2's
 # scenes at its dt = 1/150, each step solved to e <= 1e-6 (cap 20,000
 # iterations), measured by `descent study` (truth: chebyshev run to
 # round-off). Per scene and method: the steps that met the target, the
 # median iterations and the median ms per step to the target.
 #
 #   bench/contact_barrier_methods.sh [BUILD_DIR]
-#   SCENES="snowman" bench/contact_barrier_methods.sh
+#   SCENES="snowman" METHODS="chebyshev nesterov" bench/contact_barrier_methods.sh
 #
 # Writes bench/results/contact/contact_barrier_methods.log (machine,
 # commands, table); the studies' csv stay in $SCRATCH.
@@ -36,18 +36,19 @@ for scene in ${SCENES:-bowling snowman cars_spin}; do
   dir=$scratch/$scene
   cmd=("$bin" study "$root/jobs/contact/$scene.toml" --set "time.dt=0.006666666666666667"
        --warmup "$warmup" --frames "$frames" --every "$every" --repeats 1 --study-out "$dir" --quiet)
-  for method in chebyshev lbfgs jacobi_gd; do
+  methods=${METHODS:-chebyshev lbfgs jacobi_gd nesterov}
+  for method in $methods; do
     cmd+=(--case "$method:method=$method accuracy=1e-6 iterations=20000")
   done
   echo "command: ${cmd[*]#"$root"/}" | tee -a "$log"
   "${cmd[@]}"
-  "$python" - "$dir" "$scene" <<'PY' | tee -a "$log"
+  "$python" - "$dir" "$scene" $methods <<'PY' | tee -a "$log"
 import csv, statistics, sys
-d, scene = sys.argv[1], sys.argv[2]
+d, scene, methods = sys.argv[1], sys.argv[2], sys.argv[3:]
 rows = list(csv.DictReader(open(f"{d}/study.csv")))
 acc = {r["case"]: r for r in csv.DictReader(open(f"{d}/accuracy.csv"))}
 print(f"{scene}: method, steps meeting 1e-6 / measured, median iterations, median ms per step, per step (iterations, e)")
-for case in ["chebyshev", "lbfgs", "jacobi_gd"]:
+for case in methods:
     last = {}
     for r in rows:
         if r["case"] == case:

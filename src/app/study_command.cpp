@@ -298,7 +298,7 @@ CLI::App* add_study_subcommand(CLI::App& app, StudyOptions& options) {
                     "A method (gd) or LABEL:key=value ... with solver keys, e.g. "
                     "\"M1:method=chebyshev hessian_interval=1\"; repeatable (default: chebyshev "
                     "gd jacobi_gd ncg lbfgs nesterov newton; with a contact barrier chebyshev gd "
-                    "jacobi_gd lbfgs)");
+                    "jacobi_gd lbfgs nesterov)");
   study->add_option("--warmup", options.warmup, "Frames of the scene's method before measuring")
       ->check(at_least(0));
   study->add_option("--frames", options.frames, "Measured frames")->check(at_least(1));
@@ -330,10 +330,10 @@ int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::st
   // checks refuse with it: the default cases are then those that descend it.
   const bool barrier = has_contact_barrier(scene);
   if (options.case_texts.empty())
-    options.case_texts = barrier
-                             ? std::vector<std::string>{"chebyshev", "gd", "jacobi_gd", "lbfgs"}
-                             : std::vector<std::string>{"chebyshev", "gd",       "jacobi_gd", "ncg",
-                                                        "lbfgs",     "nesterov", "newton"};
+    options.case_texts =
+        barrier ? std::vector<std::string>{"chebyshev", "gd", "jacobi_gd", "lbfgs", "nesterov"}
+                : std::vector<std::string>{"chebyshev", "gd",       "jacobi_gd", "ncg",
+                                           "lbfgs",     "nesterov", "newton"};
   for (const std::string& text : options.case_texts)
     options.cases.push_back(parse_study_case(text));
   std::vector<SolverSpec> specs;

@@ -324,9 +324,13 @@ template <class Real>
 void BodyContact<Real>::guard_proven(const Real* q, Real* q_next, const std::uint8_t* fixed) {
   cut_move(q, q_next, fixed);
   update_ghosts(q_next);
-  const bool proven = reduction_.max_of(crossing_ ? 1.0 : 0.0) == 0;
+  // One allreduce for both: 2 where a path is not proven, 1 where a move
+  // was cut.
+  const bool cut_here = std::any_of(cut_.begin(), cut_.end(), [](double f) { return f < 1; });
+  const double worst = reduction_.max_of(crossing_ ? 2.0 : cut_here ? 1.0 : 0.0);
   crossing_ = false;
-  if (proven) return;
+  moves_cut_ = worst > 0;
+  if (worst < 2) return;
   // Only the path guard leaves a move unproven, and it kept each contact
   // vertex's proposal in proposed_: the move is made again from there.
   for (index_t c = 0; c < halo_.num_local(); ++c) {

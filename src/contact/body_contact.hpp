@@ -114,6 +114,9 @@ class BodyContact {
   // waiting for the path guard's exchange (3 ranks deadlocked on two bodies
   // thrown at each other), and the ranks' iterates differed from one rank's.
   void use_safe_guard() { safe_ = true; }
+  bool safe_guard_on() const { return safe_; }
+  // Whether the last guard_proven() cut a move on any rank.
+  bool moves_cut() const { return moves_cut_; }
 
   double activation_distance() const { return dh_; }
 
@@ -193,6 +196,7 @@ class BodyContact {
   std::vector<double> cut_;     // per local contact vertex: the guard's fraction (< 1: cut)
   std::vector<double> moves_;   // per contact vertex: measure_moves()
   bool safe_ = false;           // the safe guard, for the rest of the step
+  bool moves_cut_ = false;      // the last guard_proven() cut a move somewhere
   bool any_pairs_ = true;       // a pair on some rank at the last search
   bool verify_paths_ = false;   // the next update_ghosts checks the pairs' paths
   bool crossing_ = false;       // a path was not proven; the next energy is infinite

@@ -355,17 +355,17 @@ bool LocalProblem<Real>::has_contact_barrier() const {
 }
 
 template <class Real>
-void LocalProblem<Real>::add_contact_gradient(const Real* q, const Real* qt, int width) {
+void LocalProblem<Real>::add_contact_gradient(const Real* q, const Real* qt, int width,
+                                              Real* diag) {
   if (contact_ && contact_->energy_method()) {
     HostExec host;
     const loops::VertexData<Real> vd{
         mass_.data(), fixed_.data(), diagonal_floor_.data(), external_force_.data(), nullptr,
         qt,           terms_};
-    loops::add_contact_gradient(host, 0, contact_->view(), vd, q, partial_.data(), width,
-                                static_cast<Real*>(nullptr));
+    loops::add_contact_gradient(host, 0, contact_->view(), vd, q, partial_.data(), width, diag);
   }
   if (body_contact_)
-    body_contact_->add_gradient(q, partial_.data(), width, nullptr, terms_, mass_.data());
+    body_contact_->add_gradient(q, partial_.data(), width, diag, terms_, mass_.data());
 }
 
 template <class Real>

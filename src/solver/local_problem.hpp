@@ -78,12 +78,14 @@ class LocalProblem {
   // Whether eps holds contact barriers: obstacles or pairs between bodies
   // with contact.method = "energy".
   bool has_contact_barrier() const;
-  // For methods beyond chebyshev (gd, jacobi_gd, lbfgs) with contact
-  // barriers: their gradient at q (step start qt), and with width 6 their
-  // dominant diagonal, added to the partials the last elastic_gradient
-  // assembled (`width` per vertex). Records each surface vertex's nearest
-  // pair for guard_contact_moves().
-  void add_contact_gradient(const Real* q, const Real* qt, int width);
+  // For methods beyond chebyshev (gd, jacobi_gd, nesterov, lbfgs) with
+  // contact barriers: their gradient at q (step start qt), and with width 6
+  // their dominant diagonal, added to the partials the last elastic_gradient
+  // assembled (`width` per vertex); `diag` (may be null; 3 per vertex)
+  // raised to the vertex curvature plus that diagonal, as chebyshev's
+  // iterations between refreshes raise theirs. Records each surface
+  // vertex's nearest pair for guard_contact_moves().
+  void add_contact_gradient(const Real* q, const Real* qt, int width, Real* diag);
   // The Chebyshev engine's guard for those methods: each surface vertex's
   // move from q (the last add_contact_gradient's) to q_next cut so that it
   // enters no obstacle and crosses no surface of the bodies. Unlike

@@ -1121,14 +1121,14 @@ TEST(Scene, ContactErrorsNameTheKey) {
   expect_has(error_of(scene + "[contact]\ndistance = -1\n"), "contact.distance must be >= 0");
   expect_has(error_of(scene + "[contact]\nsmoothing_velocity = 0\n"),
              "contact.smoothing_velocity must be > 0");
-  // The barrier is evaluated by chebyshev, gd, jacobi_gd and lbfgs (so far),
-  // the last three with Jacobi's D.
-  for (const char* method : {"gd", "jacobi_gd", "lbfgs"})
+  // The barrier is evaluated by chebyshev, gd, jacobi_gd, nesterov and lbfgs
+  // (so far), the last four with Jacobi's D.
+  for (const char* method : {"gd", "jacobi_gd", "nesterov", "lbfgs"})
     EXPECT_NO_THROW(parse(scene + "[solver]\nmethod = \"" + method + "\"\n")) << method;
   EXPECT_NO_THROW(parse(scene + "[solver]\npreconditioner = \"multilevel\"\n"));
   expect_has(error_of(scene + "[solver]\nmethod = \"newton\"\n"),
              "obstacles ([[obstacle]]) with contact.method = \"energy\" (a barrier in eps) need "
-             "solver.method = chebyshev, gd, jacobi_gd or lbfgs (got newton)");
+             "solver.method = chebyshev, gd, jacobi_gd, nesterov or lbfgs (got newton)");
   expect_has(error_of(scene + "[solver]\nmethod = \"lbfgs\"\npreconditioner = \"multilevel\"\n"),
              "solver.preconditioner = \"multilevel\" knows nothing of the contact barrier of "
              "obstacles ([[obstacle]]) with solver.method = lbfgs");
@@ -1262,11 +1262,12 @@ TEST(Scene, ContactBetweenBodiesAsABarrierNeedsAMethodThatEvaluatesItWithJacobi)
   expect_has(error_of(two + "[contact]\nfriction = -0.3\n"),
              "contact.friction must be >= 0, got -0.3");
   EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"lbfgs\"\n"));
-  expect_has(error_of(two + "[solver]\nmethod = \"nesterov\"\n"),
+  EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"nesterov\"\n"));
+  expect_has(error_of(two + "[solver]\nmethod = \"ncg\"\n"),
              "scene.toml:7: a scene of several bodies ([[body]], contact between them) with "
              "contact.method = \"energy\" (a barrier in eps) need solver.method = chebyshev, gd, "
-             "jacobi_gd or lbfgs (got nesterov); contact.method = \"projection\" works with every "
-             "method");
+             "jacobi_gd, nesterov or lbfgs (got ncg); contact.method = \"projection\" works with "
+             "every method");
   expect_has(error_of(two + "[solver]\npreconditioner = \"multilevel\"\n"),
              "solver.preconditioner = \"multilevel\" knows nothing of the contact barrier of a "
              "scene of several bodies");

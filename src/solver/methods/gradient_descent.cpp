@@ -18,7 +18,7 @@ void GradientDescent<Real>::iterate(StepStats& stats) {
   Real scale = 1;  // gd: the global maximum of the diagonal
   for (int k = 0; k < this->spec_.iterations; ++k) {
     const bool refresh = k % this->spec_.hessian_interval == 0;
-    this->gradient(this->q_.data(), g_.data(), refresh ? d_.data() : nullptr);
+    this->gradient(this->q_.data(), g_.data(), refresh ? d_.data() : nullptr, refresh);
     if (refresh && !jacobi_) {
       Real local = 0;
       for (std::size_t dof = 0; dof < n; ++dof) local = std::max(local, d_[dof]);

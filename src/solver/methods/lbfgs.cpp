@@ -17,7 +17,7 @@ void Lbfgs<Real>::iterate(StepStats& stats) {
   double scale = 1;  // s.y / y.P^-1 y of the newest pair
   for (int k = 0; k < this->spec_.iterations; ++k) {
     const bool refresh = k % this->spec_.hessian_interval == 0;
-    this->gradient(this->q_.data(), g_.data(), refresh ? d_.data() : nullptr);
+    this->gradient(this->q_.data(), g_.data(), refresh ? d_.data() : nullptr, refresh);
     if (have_last) {
       Pair pair;
       if (history_.size() == m) {  // reuse the oldest pair's storage

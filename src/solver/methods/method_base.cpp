@@ -63,9 +63,10 @@ StepStats MethodBase<Real>::step(BodyState<Real>& state) {
 }
 
 template <class Real>
-void MethodBase<Real>::gradient(const Real* q, Real* g, Real* diag) {
-  const auto assembled = problem_.elastic_gradient(q, diag != nullptr);
-  if (barrier_) problem_.add_contact_gradient(q, qt_.data(), assembled.width);
+void MethodBase<Real>::gradient(const Real* q, Real* g, Real* diag, bool refresh) {
+  const auto assembled = problem_.elastic_gradient(q, refresh);
+  if (barrier_)
+    problem_.add_contact_gradient(q, qt_.data(), assembled.width, refresh ? nullptr : diag);
   const Real* a = assembled.values;
   const int width = assembled.width;
   const auto& mass = problem_.mass();
@@ -77,7 +78,7 @@ void MethodBase<Real>::gradient(const Real* q, Real* g, Real* diag) {
   for (std::size_t dof = 0; dof < n; ++dof) {
     const std::size_t v = dof / 3;
     const int axis = static_cast<int>(dof % 3);
-    if (diag) diag[dof] = dof_diagonal(terms, mass[v], a[width * v + 3 + axis], floor[dof]);
+    if (refresh) diag[dof] = dof_diagonal(terms, mass[v], a[width * v + 3 + axis], floor[dof]);
     g[dof] = held(dof) ? Real(0)
                        : dof_gradient(terms, mass[v], a[width * v + axis], q[dof], y_[dof],
                                       qt_[dof], force[dof], axis);
@@ -92,10 +93,21 @@ Real* MethodBase<Real>::move_target() {
 }
 
 template <class Real>
-void MethodBase<Real>::finish_move() {
+void MethodBase<Real>::finish_move(const Real* from) {
   if (!barrier_) return;
-  problem_.guard_contact_moves(q_.data(), target_.data());
+  problem_.guard_contact_moves(from ? from : q_.data(), target_.data());
   q_.swap(target_);
+}
+
+template <class Real>
+void MethodBase<Real>::guard_extrapolation(Real* to) {
+  if (barrier_) problem_.guard_contact_moves(q_.data(), to);
+}
+
+template <class Real>
+bool MethodBase<Real>::momentum_guarded() const {
+  const BodyContact<Real>* bodies = problem_.body_contact();
+  return !bodies || (!bodies->safe_guard_on() && !bodies->moves_cut());
 }
 
 template <class Real>

@@ -45,10 +45,16 @@ class MethodBase : public Stepper<Real> {
   // place); leaves the result in q_.
   virtual void iterate(StepStats& stats) = 0;
 
-  // g = grad eps(q), 0 on held dofs; with diag not null also the clamped
-  // Hessian diagonal (kernels/vertex.hpp dof_diagonal) per dof. Contact
-  // barriers (contact.method = "energy") are part of eps.
-  void gradient(const Real* q, Real* g, Real* diag);
+  // g = grad eps(q), 0 on held dofs; with refresh also the clamped Hessian
+  // diagonal (kernels/vertex.hpp dof_diagonal) per dof into diag. Contact
+  // barriers (contact.method = "energy") are part of eps; between refreshes
+  // they raise diag, when not null, where they have stiffened, as
+  // chebyshev's iterations do. Nesterov asks for that: its extrapolated
+  // points reach into closing pairs, and over a diagonal kept from before a
+  // pair closed its next move jumped by the barrier's force (a box's
+  // vertices sent 31 m in a 20 m/s impact). gd, jacobi_gd and lbfgs keep
+  // theirs to the refresh.
+  void gradient(const Real* q, Real* g, Real* diag, bool refresh);
   // An update of q_ in two calls: move_target() is where to write every dof
   // of the new iterate (computed from q_, which it may be), and
   // finish_move() makes it q_. With contact barriers the target is a
@@ -56,9 +62,23 @@ class MethodBase : public Stepper<Real> {
   // surface vertex's move from q_ as chebyshev's guard does, each move
   // proven free of crossings before it is made (LocalProblem::
   // guard_contact_moves; gradient(q_) must be the last gradient
-  // evaluated); without, q_ is updated in place, as before.
+  // evaluated); without, q_ is updated in place, as before. With `from`
+  // the move starts there instead of at q_: the point of the last gradient
+  // (nesterov's extrapolated point), which the guard's ghosts then hold.
   Real* move_target();
-  void finish_move();
+  void finish_move(const Real* from = nullptr);
+  // With contact barriers: the move q_ -> to cut and proven in place as
+  // finish_move() does, for a point the method evaluates that is not an
+  // iterate (nesterov's extrapolation); nothing without. Only where
+  // momentum_guarded().
+  void guard_extrapolation(Real* to);
+  // Whether nesterov may carry its momentum into the next move (true
+  // without contact between bodies). Not under the body guard's safe mode,
+  // whose bound is the nearest gap measured at the last gradient's point;
+  // nor after a move the guard cut on some rank: the momentum of the cut
+  // vertices' neighbours carried on into the pair, and pushed an interior
+  // vertex of a box through its own surface into the other box (20 m/s).
+  bool momentum_guarded() const;
   // z = P^-1 g (z may be g): D^-1 (d, the diagonal the method keeps) or the
   // preconditioner solver.preconditioner names, which MethodBase rebuilds at
   // each step's initial guess (every solver.preconditioner_refresh steps)

@@ -4,7 +4,9 @@
 // parameter 0, as the paper notes is usual):
 //   x = q + k/(k+3) (q - q_prev),   q_prev <- q,   q <- x - alpha g(x)/d.
 // The momentum restarts with every rollback of the paper's step control.
-// No inner product: collectives are the energy checks only.
+// No inner product: collectives are the energy checks only. With a contact
+// barrier (docs/contact.md) x is a guarded move from q like the iterates,
+// and the momentum also restarts where the guard cut a move between bodies.
 #include "solver/methods/method_base.hpp"
 
 namespace descent {

@@ -69,7 +69,7 @@ void Newton<Real>::iterate(StepStats& stats) {
   double g0 = 0;
   double energy = std::numeric_limits<double>::quiet_NaN();  // eps(q_), once known
   for (int k = 0; k <= this->spec_.newton_iterations; ++k) {
-    this->gradient(this->q_.data(), g_.data(), nullptr);
+    this->gradient(this->q_.data(), g_.data(), nullptr, false);
     double gg = this->local_dot(g_.data(), g_.data());
     this->problem_.global_dots(&gg, 1);
     const double norm = std::sqrt(gg);

@@ -15,7 +15,7 @@ void NonlinearCg<Real>::iterate(StepStats& stats) {
   double z_prev = 0;
   for (int k = 0; k < this->spec_.iterations; ++k) {
     const bool refresh = k % this->spec_.hessian_interval == 0;
-    this->gradient(this->q_.data(), g_.data(), refresh ? d_.data() : nullptr);
+    this->gradient(this->q_.data(), g_.data(), refresh ? d_.data() : nullptr, refresh);
     // z = P^-1 g into hdir_ (free until the curvature below) with a
     // preconditioner other than D^-1.
     const bool general = this->preconditioner() != nullptr;

@@ -46,7 +46,7 @@ void PdChebyshev<Real>::iterate(StepStats& stats) {
   Real omega = 1;
   int chebyshev_k = 0;
   for (int k = 0; k < this->spec_.iterations; ++k) {
-    this->gradient(this->q_.data(), g_.data(), nullptr);
+    this->gradient(this->q_.data(), g_.data(), nullptr, false);
     omega = chebyshev_omega(chebyshev_k, this->spec_.chebyshev_delay, rho2, omega);
     const Real alpha = static_cast<Real>(this->alpha_);
     Real* q = this->q_.data();

@@ -146,7 +146,7 @@ template <class Real>
 double TaoMethod<Real>::evaluate(const double* x, double* g) {
   ++evaluations_;
   unpack(x);
-  this->gradient(this->q_.data(), g_.data(), nullptr);
+  this->gradient(this->q_.data(), g_.data(), nullptr, false);
   const Energy local =
       this->problem_.local_energy(this->q_.data(), this->y_.data(), this->qt_.data());
   const EnergySums sums = this->problem_.global_energies(&local, 1);
@@ -209,7 +209,7 @@ void TaoMethod<Real>::iterate(StepStats& stats) {
         "PetscOptionsGetBool");
   scale_.assign(free_.size(), 1.0);
   if (jacobi) {
-    this->gradient(this->q_.data(), g_.data(), d_.data());
+    this->gradient(this->q_.data(), g_.data(), d_.data(), true);
     for (std::size_t i = 0; i < free_.size(); ++i)
       scale_[i] = std::sqrt(static_cast<double>(d_[free_[i]]));
   }
