@@ -37,7 +37,7 @@ PARAMETER_KEYS = {
 }
 
 
-def run_once(binary, ranks, threads, preset, iterations, frames, out_dir, parameters):
+def run_once(binary, ranks, threads, preset, iterations, frames, out_dir, parameters, precision):
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), OMP_PROC_BIND="false",
                OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none", str(binary), "run", "--overwrite",
@@ -46,7 +46,7 @@ def run_once(binary, ranks, threads, preset, iterations, frames, out_dir, parame
            # The Jacobi iteration's throughput (the multilevel preconditioner's:
            # bench/results/multilevel).
            "--set", 'solver.preconditioner="jacobi"',
-           "--out", str(out_dir)]
+           "--precision", precision, "--out", str(out_dir)]
     for key in PARAMETER_KEYS[parameters]:
         cmd += ["--set", key]
     text = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
@@ -71,12 +71,17 @@ def main():
                         help="Markdown file for the table")
     parser.add_argument("--parameters", choices=["fixed", "auto"], default="fixed")
     parser.add_argument("--compare", type=Path, help="an earlier build, run interleaved")
+    parser.add_argument("--compare-keys", choices=["own", "same"], default="own",
+                        help="own: the earlier build's defaults (one from before the automatic "
+                             "parameters); same: this build's keys")
+    parser.add_argument("--precision", choices=["double", "float"], default="double")
     args = parser.parse_args()
 
     out_dir = ROOT / "out/bench"
     builds = [("this build", args.binary, args.parameters)]
     if args.compare:
-        builds.append(("--compare", args.compare, "legacy"))
+        builds.append(("--compare", args.compare,
+                       "legacy" if args.compare_keys == "own" else args.parameters))
     rows = []
     commands = {}
     for config in args.configs:
@@ -85,7 +90,8 @@ def main():
         for run in range(args.runs):
             for name, binary, parameters in builds:
                 value, commands[name] = run_once(binary, ranks, threads, args.preset,
-                                                 args.iterations, args.frames, out_dir, parameters)
+                                                 args.iterations, args.frames, out_dir, parameters,
+                                                 args.precision)
                 samples[name].append(value)
                 print(f"{config} {name}: run {run + 1}/{args.runs}: {value:.1f} ns per tet-iteration",
                       flush=True)
@@ -96,14 +102,15 @@ def main():
     base = rows[0][3]
     lines = [
         f"# CPU throughput: double helix {args.preset}, {args.iterations} iterations per step, "
-        f"{args.parameters} Chebyshev parameters",
+        f"{args.parameters} Chebyshev parameters, {args.precision}",
         "",
         *machine_lines(),
         f"- command (per configuration, ranks and OMP_NUM_THREADS varied): `{command}`",
         f"- figure: step wall time / (tets x iterations), {args.frames} frames per run, median of {args.runs} runs",
     ]
     if args.compare:
-        lines.append(f"- --compare: `{commands['--compare']}` (an earlier build, its own defaults), "
+        lines.append(f"- --compare: `{commands['--compare']}` (an earlier build, "
+                     f"{'its own defaults' if args.compare_keys == 'own' else 'the same keys'}), "
                      "run alternately with this build, run by run")
     lines += [
         "",

@@ -14,14 +14,22 @@ struct TetCorners {
   Vec3<Real> x[4];
 };
 
-// V Psi(F); infinite for an inverted element of a model not defined there
-// (Model::kInvertible false), so the energy check rejects any step into
-// inversion instead of letting a long step tunnel through J = 0.
+// Whether an element of det F = j has energy: a model not defined for
+// inverted elements (Model::kInvertible false) gives them infinite energy,
+// so the energy check rejects any step into inversion instead of letting a
+// long step tunnel through J = 0.
+template <class Model, class Real>
+DESCENT_HOST_DEVICE inline bool outside_domain(Real j) {
+  if constexpr (Model::kInvertible) return false;
+  return j <= Real(0);
+}
+
+// V Psi(F); infinite outside the model's domain (outside_domain).
 template <class Real, class Model>
 DESCENT_HOST_DEVICE inline Real element_energy_of(const Model& model, const TetRest<Real>& rest,
                                                   const Mat3<Real>& f) {
   if constexpr (!Model::kInvertible) {
-    if (det(f) <= Real(0)) return std::numeric_limits<Real>::infinity();
+    if (outside_domain<Model>(det(f))) return std::numeric_limits<Real>::infinity();
   }
   return rest.volume * model.energy(f);
 }

@@ -434,11 +434,17 @@ double inner_product(Exec& exec, int stream, index_t num_dofs, const Real* a, co
 // double epsilons per unit, kernels/in_double.hpp); multiplied by it, R
 // grew with the rest stiffness (as 1/dx^2) to above a 1e-3 target at 82K
 // tets.
+//
+// On the host, a model that runs in lanes (kernels/cpu/lane_models.hpp)
+// first computes its tets' energies in blocks into `tet_energy` (num_tets
+// doubles; may be null elsewhere), bitwise the values of the loop below,
+// which then sums them in the same order: the same energy, without a scalar
+// cube root per tet in double.
 template <bool Converting, class Exec, class Real, class Model>
 Sum2 local_energy(Exec& exec, int stream, const Model& model, const Conversion<Real>& conv,
                   const Real* interpolant, const Real* q, const index_t* tets,
                   const TetRest<Real>* rest, index_t num_tets, VertexData<Real> vd,
-                  const Real* curvature, index_t num_owned) {
+                  const Real* curvature, index_t num_owned, double* tet_energy) {
   const index_t n = num_tets > num_owned ? num_tets : num_owned;
   constexpr double kStateResolution =
       2 * std::numeric_limits<Real>::epsilon() *
@@ -447,17 +453,31 @@ Sum2 local_energy(Exec& exec, int stream, const Model& model, const Conversion<R
   const auto wide_model = in_double(model);
   const Conversion<double> wide_conv = in_double(conv);
   const VertexTerms<double> terms = in_double(vd.terms);
+  const double* energies = nullptr;
+#if !defined(__CUDACC__)
+  if constexpr (!Converting && Exec::kHostMemory &&
+                LaneModel<decltype(wide_model), kLaneWidth<double>>) {
+    if (tet_energy) {
+      element_energies_lanes<kLaneWidth<double>>(exec, stream, wide_model, q, tets, rest, num_tets,
+                                                 tet_energy);
+      energies = tet_energy;
+    }
+  }
+#endif
   return exec.reduce(
       stream, n, DESCENT_LAMBDA(index_t i)->Sum2 {
         Sum2 s;
         if (i < num_tets) {
-          const TetCorners<double> c = in_double(tet_corners(q, tets, i));
-          const TetRest<double> r = in_double(rest[i]);
           double e;
-          if (Converting)
-            e = converted_energy(wide_model, wide_conv, static_cast<double>(interpolant[i]), r, c);
-          else
-            e = element_energy(wide_model, r, c);
+          if (energies) {
+            e = energies[i];
+          } else {
+            const TetCorners<double> c = in_double(tet_corners(q, tets, i));
+            const TetRest<double> r = in_double(rest[i]);
+            e = Converting ? converted_energy(wide_model, wide_conv,
+                                              static_cast<double>(interpolant[i]), r, c)
+                           : element_energy(wide_model, r, c);
+          }
           s.value = e;
           s.magnitude = e < 0 ? -e : e;
         }

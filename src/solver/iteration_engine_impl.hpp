@@ -152,15 +152,21 @@ class EngineImpl final : public IterationEngine<Real> {
   Energy local_energy(bool checked) override {
     const Real* q = checked ? checked_.data() : q_[cur_].data();
     const loops::VertexData<Real> vd = vertex_data();
+    // The lanes' tet energies on the host (loops::local_energy).
+    double* tet_energy = nullptr;
+    if constexpr (Exec::kHostMemory) {
+      tet_energy_.resize(static_cast<std::size_t>(nt_));
+      tet_energy = tet_energy_.data();
+    }
     const Sum2 s = std::visit(
         [&](const auto& model) {
           return converting_
-                     ? loops::local_energy<true>(exec_, kMain, model, conversion_,
-                                                 interpolant_.data(), q, tets_.data(), rest_.data(),
-                                                 nt_, vd, rest_curvature_.data(), owned_)
+                     ? loops::local_energy<true>(
+                           exec_, kMain, model, conversion_, interpolant_.data(), q, tets_.data(),
+                           rest_.data(), nt_, vd, rest_curvature_.data(), owned_, tet_energy)
                      : loops::local_energy<false>(
                            exec_, kMain, model, conversion_, interpolant_.data(), q, tets_.data(),
-                           rest_.data(), nt_, vd, rest_curvature_.data(), owned_);
+                           rest_.data(), nt_, vd, rest_curvature_.data(), owned_, tet_energy);
         },
         model_);
     Energy e{s.value, s.magnitude};
@@ -625,6 +631,7 @@ class EngineImpl final : public IterationEngine<Real> {
   Array<FrictionLag<Real>> contact_lags_;
   Array<ObstacleGeometry<Real>> contact_geometry_;
   Array<Real> contact_base_, contact_reference_, contact_scale_;  // with a preconditioner
+  std::vector<double> tet_energy_;  // one per tet: local_energy's scratch on the host
 };
 
 }  // namespace descent

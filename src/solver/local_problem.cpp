@@ -320,15 +320,18 @@ Energy LocalProblem<Real>::local_energy(const Real* q, const Real* y, const Real
   HostExec host;
   const loops::VertexData<Real> vd{
       mass_.data(), fixed_.data(), diagonal_floor_.data(), external_force_.data(), y, qt, terms_};
+  tet_energy_.resize(static_cast<std::size_t>(mesh_.num_tets()));
   const Sum2 s = std::visit(
       [&](const auto& model) {
         return converting_
                    ? loops::local_energy<true>(host, 0, model, conversion_, interpolant_.data(), q,
                                                mesh_.tets.data(), rest_.data(), mesh_.num_tets(),
-                                               vd, rest_curvature_.data(), mesh_.num_owned)
+                                               vd, rest_curvature_.data(), mesh_.num_owned,
+                                               tet_energy_.data())
                    : loops::local_energy<false>(host, 0, model, conversion_, interpolant_.data(), q,
                                                 mesh_.tets.data(), rest_.data(), mesh_.num_tets(),
-                                                vd, rest_curvature_.data(), mesh_.num_owned);
+                                                vd, rest_curvature_.data(), mesh_.num_owned,
+                                                tet_energy_.data());
       },
       model_);
   if (!contact_) return {s.value, s.magnitude};

@@ -200,6 +200,7 @@ class LocalProblem {
   std::vector<std::uint8_t> fixed_;
   std::vector<Real> corner_grad_, corner_diag_;  // 12 per tet
   std::vector<Real> partial_;                    // 3 or 6 per vertex: gradient [, diagonal]
+  mutable std::vector<double> tet_energy_;       // one per tet: local_energy's scratch
   std::unique_ptr<ObstacleContact<Real>> contact_;
   std::unique_ptr<BodyContact<Real>> body_contact_;
   std::unique_ptr<BodyProjection<Real>> body_projection_;

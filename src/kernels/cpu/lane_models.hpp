@@ -11,6 +11,7 @@
 // sorting) and conversion (the interpolant's clamps) branch per tet and keep
 // the tet-by-tet loop; `lane_model` is not defined for them.
 #include <cstdint>
+#include <limits>
 
 #include "common/mesh.hpp"
 #include "kernels/cpu/lanes.hpp"
@@ -48,20 +49,22 @@ concept LaneModel = requires(const Model& m) {
 
 // Tets [first, first + count) into the lanes of `c` and `rest` (count <= W);
 // lanes past `count` repeat the block's last tet, computed and not stored.
-template <int W, class T>
+// The lanes' real L may be wider than the data's T (a float run's energy in
+// double, kernels/in_double.hpp): each value is converted as in_double does.
+template <int W, class L, class T>
 void load_lanes(const T* x, const index_t* tets, const TetRest<T>* rest, index_t first, int count,
-                TetCorners<Lanes<T, W>>& c, TetRest<Lanes<T, W>>& r) {
+                TetCorners<Lanes<L, W>>& c, TetRest<Lanes<L, W>>& r) {
   for (int l = 0; l < W; ++l) {
     const index_t t = first + (l < count ? l : count - 1);
     const index_t* tet = tets + 4 * static_cast<std::int64_t>(t);
     for (int a = 0; a < 4; ++a) {
       const T* p = x + 3 * static_cast<std::int64_t>(tet[a]);
-      c.x[a].x.v[l] = p[0];
-      c.x[a].y.v[l] = p[1];
-      c.x[a].z.v[l] = p[2];
+      c.x[a].x.v[l] = static_cast<L>(p[0]);
+      c.x[a].y.v[l] = static_cast<L>(p[1]);
+      c.x[a].z.v[l] = static_cast<L>(p[2]);
     }
-    for (int k = 0; k < 9; ++k) r.dm_inv.m[k].v[l] = rest[t].dm_inv.m[k];
-    r.volume.v[l] = rest[t].volume;
+    for (int k = 0; k < 9; ++k) r.dm_inv.m[k].v[l] = static_cast<L>(rest[t].dm_inv.m[k]);
+    r.volume.v[l] = static_cast<L>(rest[t].volume);
   }
 }
 
@@ -100,6 +103,34 @@ void element_pass_lanes(Exec& exec, int stream, const Model& model, const Real* 
     if (!corner_diag) return;
     element_hessian_diagonal(lanes, r, c, out);
     store_lanes<W>(out, first, count, corner_diag);
+  });
+}
+
+// energy[t] = element_energy(model, rest[t], corners of t) for tets [0,
+// num_tets), in blocks of W: the model in double (in_double's), the data in
+// T widened as in_double widens it, so each value is bitwise the one the
+// tet-by-tet energy loop (loops::local_energy) computes.
+template <int W, class Exec, class T, class Model>
+void element_energies_lanes(Exec& exec, int stream, const Model& model, const T* x,
+                            const index_t* tets, const TetRest<T>* rest, index_t num_tets,
+                            double* energy) {
+  using L = Lanes<double, W>;
+  const auto lanes = lane_model<W>(model);
+  using LaneModelType = decltype(lanes);
+  const index_t blocks = (num_tets + W - 1) / W;
+  exec.for_each(stream, 0, blocks, [=](index_t b) {
+    const index_t first = b * W;
+    const int count = num_tets - first < W ? static_cast<int>(num_tets - first) : W;
+    TetCorners<L> c;
+    TetRest<L> r;
+    load_lanes<W>(x, tets, rest, first, count, c, r);
+    const Mat3<L> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], r.dm_inv);
+    const L value = r.volume * lanes.energy(f);
+    L j = 0;
+    if constexpr (!LaneModelType::kInvertible) j = det(f);
+    for (int l = 0; l < count; ++l)
+      energy[first + l] =
+          outside_domain<Model>(j.v[l]) ? std::numeric_limits<double>::infinity() : value.v[l];
   });
 }
 
