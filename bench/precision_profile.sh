@@ -21,6 +21,8 @@ log=$root/bench/results/precision/profile.log
 export OMP_NUM_THREADS=1
 {
   echo "== $(date -u +%FT%TZ) $(lscpu | sed -n 's/^Model name: *//p'), $(nproc --all) cores; tree $(git -C "$root" rev-parse --short HEAD)"
+  source_dir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt")
+  echo "binary: $build/src/app/descent, built from $(git -C "$source_dir" log -1 --format=%h)"
   for precision in double float; do
     cmd=("$build/src/app/descent" run "$root/jobs/helix.toml" --set "mesh.helix.preset=\"$preset\""
          --set "time.frames=$frames" --set solver.accuracy=0 --set "solver.iterations=$iterations"
