@@ -43,9 +43,9 @@ parts = [
     ("energy checks (in double)", r"local_energy|element_energies_lanes|cube_root_scalar<double>|deformation_gradient<double>"),
     ("lanes: load corners and rest", r"load_lanes"),
     ("lanes: store corner results", r"store_lanes"),
+    ("spectrum (Hessian products)", r"hessian_product|stress_derivative"),
     ("element math (lanes)", r"element_pass_lanes|Lanes<|descent::cube_root(\s|$)"),
     ("assembly gather", r"gather_corners"),
-    ("spectrum (Hessian products)", r"hessian_product|stress_derivative|element_hessian_product"),
     ("vertex update", r"vertex_update"),
 ]
 def load(precision):

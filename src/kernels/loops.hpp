@@ -169,6 +169,17 @@ void hessian_product_pass(Exec& exec, int stream, const Model& model, const Conv
                           const Real* interpolant, const Real* x, const Real* p,
                           const index_t* tets, const TetRest<Real>* rest, index_t begin,
                           index_t end, ElementOut<Real> out) {
+#if !defined(__CUDACC__)
+  // On the host, the gather pass of a lane model in blocks of tets, bitwise
+  // the same products (kernels/cpu/lane_models.hpp).
+  if constexpr (!Converting && Exec::kHostMemory && LaneModel<Model, kLaneWidth<Real>>) {
+    if (out.partial == nullptr) {
+      hessian_product_pass_lanes<kLaneWidth<Real>>(exec, stream, model, x, p, tets, rest, begin,
+                                                   end, out.corner_grad);
+      return;
+    }
+  }
+#endif
   exec.for_each(
       stream, begin, end, DESCENT_LAMBDA(index_t t) {
         const TetCorners<Real> c = tet_corners(x, tets, t);

@@ -2,7 +2,8 @@
 // the tet-by-tet gradient and Hessian diagonal of every model that runs in
 // lanes, in double and float, on tet counts that are not a multiple of the
 // lane width and on ranges that start inside a block; the models that branch
-// on reals do not run in lanes. The energies in double lanes are bitwise the
+// on reals do not run in lanes. So are the Hessian products of the spectrum
+// estimate's pass. The energies in double lanes are bitwise the
 // tet-by-tet energies in double, from double and float data, inverted
 // elements included.
 #include <gtest/gtest.h>
@@ -88,12 +89,43 @@ void expect_lanes_match(const Model& model, int n, index_t begin) {
   }
 }
 
+// The Hessian-product pass in lanes against element_hessian_product tet by
+// tet over tets [begin, n), bit for bit.
+template <class Real, class Model>
+void expect_products_match(const Model& model, int n, index_t begin) {
+  const TetSet<Real> set = random_tets<Real>(n, 5 + n);
+  std::mt19937_64 rng(3 + n);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Real> p(set.x.size());
+  for (Real& v : p) v = static_cast<Real>(unit(rng));
+  std::vector<Real> hp(12 * n, Real(-1));
+  HostExec exec;
+  loops::ElementOut<Real> out;
+  out.corner_grad = hp.data();
+  const Conversion<Real> no_conversion{};
+  loops::hessian_product_pass<false>(exec, 0, model, no_conversion,
+                                     static_cast<const Real*>(nullptr), set.x.data(), p.data(),
+                                     set.tets.data(), set.rest.data(), begin, n, out);
+  for (index_t t = begin; t < n; ++t) {
+    const TetCorners<Real> c = loops::tet_corners(set.x.data(), set.tets.data(), t);
+    const TetCorners<Real> pc = loops::tet_corners(p.data(), set.tets.data(), t);
+    Vec3<Real> want[4];
+    element_hessian_product(model, set.rest[t], c, pc.x, want);
+    for (int a = 0; a < 4; ++a)
+      ASSERT_EQ(std::memcmp(hp.data() + 12 * t + 3 * a, &want[a], 3 * sizeof(Real)), 0)
+          << "product, tet " << t << " corner " << a << " of " << n << " from " << begin;
+  }
+  for (index_t t = 0; t < begin; ++t) ASSERT_EQ(hp[12 * t], Real(-1)) << "tet " << t;
+}
+
 template <class Real, class Model>
 void expect_lanes_match_everywhere(const Model& model) {
   constexpr int w = kLaneWidth<Real>;
   for (const int n : {1, w - 1, w, 3 * w + 3})
-    for (const index_t begin : {index_t{0}, index_t{n / 2}})
+    for (const index_t begin : {index_t{0}, index_t{n / 2}}) {
       expect_lanes_match<Real>(model, n, begin);
+      expect_products_match<Real>(model, n, begin);
+    }
 }
 
 template <class Real>

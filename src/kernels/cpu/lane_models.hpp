@@ -16,6 +16,7 @@
 #include "common/mesh.hpp"
 #include "kernels/cpu/lanes.hpp"
 #include "kernels/element.hpp"
+#include "kernels/element_hessian_product.hpp"
 #include "kernels/fung.hpp"
 #include "kernels/mooney_rivlin.hpp"
 #include "kernels/neo_hookean.hpp"
@@ -103,6 +104,29 @@ void element_pass_lanes(Exec& exec, int stream, const Model& model, const Real* 
     if (!corner_diag) return;
     element_hessian_diagonal(lanes, r, c, out);
     store_lanes<W>(out, first, count, corner_diag);
+  });
+}
+
+// The gather Hessian-product pass of tets [begin, end) in blocks of W: the
+// product of each element's exact Hessian at x with the corners of p into
+// corner_out (12 reals per tet), as loops::hessian_product_pass stores it.
+template <int W, class Exec, class Real, class Model>
+void hessian_product_pass_lanes(Exec& exec, int stream, const Model& model, const Real* x,
+                                const Real* p, const index_t* tets, const TetRest<Real>* rest,
+                                index_t begin, index_t end, Real* corner_out) {
+  using L = Lanes<Real, W>;
+  const auto lanes = lane_model<W>(model);
+  const index_t blocks = (end - begin + W - 1) / W;
+  exec.for_each(stream, 0, blocks, [=](index_t b) {
+    const index_t first = begin + b * W;
+    const int count = end - first < W ? static_cast<int>(end - first) : W;
+    TetCorners<L> c, pc;
+    TetRest<L> r;
+    load_lanes<W>(x, tets, rest, first, count, c, r);
+    load_lanes<W>(p, tets, rest, first, count, pc, r);
+    Vec3<L> out[4];
+    element_hessian_product(lanes, r, c, pc.x, out);
+    store_lanes<W>(out, first, count, corner_out);
   });
 }
 
