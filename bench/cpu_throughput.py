@@ -109,7 +109,9 @@ def main():
         f"- figure: step wall time / (tets x iterations), {args.frames} frames per run, median of {args.runs} runs",
     ]
     if args.compare:
-        lines.append(f"- --compare: `{commands['--compare']}` (an earlier build, "
+        # The earlier build's path is this machine's: shown as EARLIER.
+        shown = commands["--compare"].replace(str(args.compare), "EARLIER")
+        lines.append(f"- --compare: `{shown}` (an earlier build, "
                      f"{'its own defaults' if args.compare_keys == 'own' else 'the same keys'}), "
                      "run alternately with this build, run by run")
     lines += [

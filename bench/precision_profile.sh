@@ -22,13 +22,14 @@ export OMP_NUM_THREADS=1
 {
   echo "== $(date -u +%FT%TZ) $(lscpu | sed -n 's/^Model name: *//p'), $(nproc --all) cores; tree $(git -C "$root" rev-parse --short HEAD)"
   source_dir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt")
-  echo "binary: $build/src/app/descent, built from $(git -C "$source_dir" log -1 --format=%h)"
+  echo "binary: ${build#"$root"/}/src/app/descent, built from $(git -C "$source_dir" log -1 --format=%h)"
   for precision in double float; do
     cmd=("$build/src/app/descent" run "$root/jobs/helix.toml" --set "mesh.helix.preset=\"$preset\""
          --set "time.frames=$frames" --set solver.accuracy=0 --set "solver.iterations=$iterations"
          --set 'solver.preconditioner="jacobi"' --precision "$precision" --out "$scratch/run"
          --overwrite)
-    echo "command: perf record -o DATA ${cmd[*]#"$root"/}"
+    shown="${cmd[*]#"$root"/}"
+    echo "command: perf record -o DATA ${shown//$scratch/SCRATCH}"
     perf record -q -o "$scratch/$precision.data" "${cmd[@]}" 2>&1 | grep "ns per tet-iteration"
     perf report -i "$scratch/$precision.data" --no-children --sort symbol --stdio 2>/dev/null |
       grep -E '^ +[0-9.]+%' >"$scratch/$precision.txt"

@@ -80,7 +80,8 @@ def main():
             for method, pages in cases:
                 cmd = command(args.binary, args.ranks, scene, args.iterations, scratch, method,
                               None)
-                commands[method] = " ".join(cmd)
+                # Recorded without this machine's paths.
+                commands[method] = " ".join(cmd).replace(f"{ROOT}/", "").replace(scratch, "SCRATCH")
                 samples[(method, pages)].append(run_once(cmd, pages))
                 print(method, pages, samples[(method, pages)][-1]["setup"], flush=True)
 

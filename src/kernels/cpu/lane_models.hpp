@@ -48,24 +48,49 @@ concept LaneModel = requires(const Model& m) {
   lane_model<W>(m);
 };
 
-// Tets [first, first + count) into the lanes of `c` and `rest` (count <= W);
-// lanes past `count` repeat the block's last tet, computed and not stored.
-// The lanes' real L may be wider than the data's T (a float run's energy in
-// double, kernels/in_double.hpp): each value is converted as in_double does.
+// f(first, count) for each block of W tets of [begin, end): tets [first,
+// first + count), count <= W.
+template <int W, class Exec, class F>
+void for_each_block(Exec& exec, int stream, index_t begin, index_t end, F f) {
+  const index_t blocks = (end - begin + W - 1) / W;
+  exec.for_each(stream, 0, blocks, [=](index_t b) {
+    const index_t first = begin + b * W;
+    f(first, end - first < W ? static_cast<int>(end - first) : W);
+  });
+}
+
+// The tet in lane l of the block [first, first + count): lanes past `count`
+// repeat the block's last tet, computed and not stored.
+inline index_t lane_tet(index_t first, int count, int l) {
+  return first + (l < count ? l : count - 1);
+}
+
+// The block's corners of x (3 reals per vertex) into lanes. The lanes' real
+// L may be wider than the data's T (a float run's energy in double,
+// kernels/in_double.hpp): each value is converted as in_double does.
 template <int W, class L, class T>
-void load_lanes(const T* x, const index_t* tets, const TetRest<T>* rest, index_t first, int count,
-                TetCorners<Lanes<L, W>>& c, TetRest<Lanes<L, W>>& r) {
+void load_corners(const T* x, const index_t* tets, index_t first, int count,
+                  TetCorners<Lanes<L, W>>& c) {
   for (int l = 0; l < W; ++l) {
-    const index_t t = first + (l < count ? l : count - 1);
-    const index_t* tet = tets + 4 * static_cast<std::int64_t>(t);
+    const index_t* tet = tets + 4 * static_cast<std::int64_t>(lane_tet(first, count, l));
     for (int a = 0; a < 4; ++a) {
       const T* p = x + 3 * static_cast<std::int64_t>(tet[a]);
       c.x[a].x.v[l] = static_cast<L>(p[0]);
       c.x[a].y.v[l] = static_cast<L>(p[1]);
       c.x[a].z.v[l] = static_cast<L>(p[2]);
     }
-    for (int k = 0; k < 9; ++k) r.dm_inv.m[k].v[l] = static_cast<L>(rest[t].dm_inv.m[k]);
-    r.volume.v[l] = static_cast<L>(rest[t].volume);
+  }
+}
+
+// The block's corners of x and its rest data into lanes.
+template <int W, class L, class T>
+void load_lanes(const T* x, const index_t* tets, const TetRest<T>* rest, index_t first, int count,
+                TetCorners<Lanes<L, W>>& c, TetRest<Lanes<L, W>>& r) {
+  load_corners<W>(x, tets, first, count, c);
+  for (int l = 0; l < W; ++l) {
+    const TetRest<T>& source = rest[lane_tet(first, count, l)];
+    for (int k = 0; k < 9; ++k) r.dm_inv.m[k].v[l] = static_cast<L>(source.dm_inv.m[k]);
+    r.volume.v[l] = static_cast<L>(source.volume);
   }
 }
 
@@ -91,10 +116,7 @@ void element_pass_lanes(Exec& exec, int stream, const Model& model, const Real* 
                         Real* corner_grad, Real* corner_diag) {
   using L = Lanes<Real, W>;
   const auto lanes = lane_model<W>(model);
-  const index_t blocks = (end - begin + W - 1) / W;
-  exec.for_each(stream, 0, blocks, [=](index_t b) {
-    const index_t first = begin + b * W;
-    const int count = end - first < W ? static_cast<int>(end - first) : W;
+  for_each_block<W>(exec, stream, begin, end, [=](index_t first, int count) {
     TetCorners<L> c;
     TetRest<L> r;
     load_lanes<W>(x, tets, rest, first, count, c, r);
@@ -116,14 +138,11 @@ void hessian_product_pass_lanes(Exec& exec, int stream, const Model& model, cons
                                 index_t begin, index_t end, Real* corner_out) {
   using L = Lanes<Real, W>;
   const auto lanes = lane_model<W>(model);
-  const index_t blocks = (end - begin + W - 1) / W;
-  exec.for_each(stream, 0, blocks, [=](index_t b) {
-    const index_t first = begin + b * W;
-    const int count = end - first < W ? static_cast<int>(end - first) : W;
+  for_each_block<W>(exec, stream, begin, end, [=](index_t first, int count) {
     TetCorners<L> c, pc;
     TetRest<L> r;
     load_lanes<W>(x, tets, rest, first, count, c, r);
-    load_lanes<W>(p, tets, rest, first, count, pc, r);
+    load_corners<W>(p, tets, first, count, pc);
     Vec3<L> out[4];
     element_hessian_product(lanes, r, c, pc.x, out);
     store_lanes<W>(out, first, count, corner_out);
@@ -141,10 +160,7 @@ void element_energies_lanes(Exec& exec, int stream, const Model& model, const T*
   using L = Lanes<double, W>;
   const auto lanes = lane_model<W>(model);
   using LaneModelType = decltype(lanes);
-  const index_t blocks = (num_tets + W - 1) / W;
-  exec.for_each(stream, 0, blocks, [=](index_t b) {
-    const index_t first = b * W;
-    const int count = num_tets - first < W ? static_cast<int>(num_tets - first) : W;
+  for_each_block<W>(exec, stream, 0, num_tets, [=](index_t first, int count) {
     TetCorners<L> c;
     TetRest<L> r;
     load_lanes<W>(x, tets, rest, first, count, c, r);
