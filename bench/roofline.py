@@ -20,10 +20,10 @@ Three measured inputs and one counted one:
 How operations are counted: additions, subtractions and multiplications are
 flops and run at the measured peak; divisions, square and cube roots and
 exponentials are not counted as flops but timed: each costs the measured
-time per call (divisions, cube roots and exponentials, kernels/cube_root.hpp
-and kernels/exponential.hpp, run in lanes and are timed per value; square
-roots are calls into libm). Comparisons and abs/copysign/frexp/ldexp (bit
-operations) cost nothing in the bound. The compute bound is thus the time the operations
+time per value in lanes (kernels/cpu/lanes.hpp; cube roots and
+exponentials are kernels/cube_root.hpp's and kernels/exponential.hpp's), as
+the element pass takes them. Comparisons, selects and
+abs/copysign/frexp/ldexp (bit operations) cost nothing in the bound. The compute bound is thus the time the operations
 take at the machine's best, the memory bound the bytes at the triad's
 bandwidth for a working set of the run's size; the larger applies.
 

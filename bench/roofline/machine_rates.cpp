@@ -12,11 +12,11 @@
 //                            STREAM counts (3 words per element moved)
 //   peak_GFlops_double/float independent multiply-add chains (2 flops each),
 //                            no memory traffic
-//   ns_<op>_double/float     one core's time per call of sqrt (independent
-//                            calls: a throughput), and per value of a
+//   ns_<op>_double/float     one core's time per value of a square root, a
 //                            division, the cube root (kernels/cube_root.hpp)
 //                            and exp (kernels/exponential.hpp) taken in lanes
-// The triad, the chains, the division, the cube root and exp run in Lanes
+//                            (independent values: a throughput)
+// The triad, the chains, the roots, the division and exp run in Lanes
 // of the build's vector width (kernels/cpu/lanes.hpp), as descent's element pass
 // does: the build has no automatic vectorisation (CMakeLists.txt says why).
 #include <mpi.h>
@@ -127,25 +127,8 @@ double peak_gflops(int ranks) {
   return 2.0 * 8 * kLaneWidth<Real> * rounds * omp_get_max_threads() * ranks / t / 1e9;
 }
 
-// One core's ns per call of op over independent inputs (a throughput, as
-// the element loop meets them: one call per tet, tets independent).
-template <class Real, class Op>
-double ns_per_call(Op&& op) {
-  constexpr int kN = 4096;
-  std::vector<Real> in(kN), out(kN);
-  for (int i = 0; i < kN; ++i) in[i] = Real(0.5) + Real(i) / Real(kN);
-  const int sweeps = 2000;
-  const double t = timed(5, [&] {
-    for (int s = 0; s < sweeps; ++s) {
-      for (int i = 0; i < kN; ++i) out[i] = op(in[i]);
-      in[s % kN] = out[(s * 7) % kN] * Real(1e-9) + Real(0.5);  // keep the loop alive
-    }
-  });
-  return t / (double(kN) * sweeps) * 1e9;
-}
-
 // One core's ns per value of an operation on lanes (as the element math
-// divides and takes cube roots and exponentials: a block of tets per
+// divides and takes roots and exponentials: a block of tets per
 // instruction).
 template <class Real, class Op>
 double ns_per_lane_value(Op&& op) {
@@ -167,8 +150,8 @@ template <class Real>
 void print_rates(const char* name, std::size_t bytes, int ranks, int rank) {
   const double triad = triad_gbps<Real>(bytes, ranks);
   const double peak = peak_gflops<Real>(ranks);
-  const double ns_sqrt = ns_per_call<Real>([](Real x) { return std::sqrt(x); });
   using L = Lanes<Real, kLaneWidth<Real>>;
+  const double ns_sqrt = ns_per_lane_value<Real>([](L x) { return sqrt(x); });
   const double ns_cbrt = ns_per_lane_value<Real>([](L x) { return cube_root(x); });
   const double ns_exp = ns_per_lane_value<Real>([](L x) { return exponential(x); });
   const double ns_div = ns_per_lane_value<Real>([](L x) { return L(Real(1.5)) / x; });

@@ -63,7 +63,7 @@ struct Corotated {
     const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
     for (int p = 0; p < 3; ++p) {
       const Real sum = s[pairs[p][0]] + s[pairs[p][1]];
-      t.twist[p] = numerator / (sum > min_denominator ? sum : min_denominator);
+      t.twist[p] = numerator / select(sum > min_denominator, sum, min_denominator);
     }
     return t;
   }

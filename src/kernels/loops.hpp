@@ -132,10 +132,11 @@ void element_pass(Exec& exec, int stream, const Model& model, const Conversion<R
                   Real* interpolant, const Real* x, const index_t* tets, const TetRest<Real>* rest,
                   index_t begin, index_t end, bool with_diag, ElementOut<Real> out) {
 #if !defined(__CUDACC__)
-  if constexpr (!Converting && Exec::kHostMemory && LaneModel<Model, kLaneWidth<Real>>) {
+  if constexpr (Exec::kHostMemory && LaneModel<Model, kLaneWidth<Real>>) {
     if (out.partial == nullptr) {
-      element_pass_lanes<kLaneWidth<Real>>(exec, stream, model, x, tets, rest, begin, end,
-                                           out.corner_grad, with_diag ? out.corner_diag : nullptr);
+      element_pass_lanes<Converting, kLaneWidth<Real>>(exec, stream, model, conv, interpolant, x,
+                                                       tets, rest, begin, end, out.corner_grad,
+                                                       with_diag ? out.corner_diag : nullptr);
       return;
     }
   }
@@ -172,10 +173,10 @@ void hessian_product_pass(Exec& exec, int stream, const Model& model, const Conv
 #if !defined(__CUDACC__)
   // On the host, the gather pass of a lane model in blocks of tets, bitwise
   // the same products (kernels/cpu/lane_models.hpp).
-  if constexpr (!Converting && Exec::kHostMemory && LaneModel<Model, kLaneWidth<Real>>) {
+  if constexpr (Exec::kHostMemory && LaneModel<Model, kLaneWidth<Real>>) {
     if (out.partial == nullptr) {
-      hessian_product_pass_lanes<kLaneWidth<Real>>(exec, stream, model, x, p, tets, rest, begin,
-                                                   end, out.corner_grad);
+      hessian_product_pass_lanes<Converting, kLaneWidth<Real>>(
+          exec, stream, model, conv, interpolant, x, p, tets, rest, begin, end, out.corner_grad);
       return;
     }
   }
@@ -466,11 +467,10 @@ Sum2 local_energy(Exec& exec, int stream, const Model& model, const Conversion<R
   const VertexTerms<double> terms = in_double(vd.terms);
   const double* energies = nullptr;
 #if !defined(__CUDACC__)
-  if constexpr (!Converting && Exec::kHostMemory &&
-                LaneModel<decltype(wide_model), kLaneWidth<double>>) {
+  if constexpr (Exec::kHostMemory && LaneModel<decltype(wide_model), kLaneWidth<double>>) {
     if (tet_energy) {
-      element_energies_lanes<kLaneWidth<double>>(exec, stream, wide_model, q, tets, rest, num_tets,
-                                                 tet_energy);
+      element_energies_lanes<Converting, kLaneWidth<double>>(
+          exec, stream, wide_model, wide_conv, interpolant, q, tets, rest, num_tets, tet_energy);
       energies = tet_energy;
     }
   }

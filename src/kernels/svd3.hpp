@@ -6,7 +6,8 @@
 //
 // Method: one-sided (Hestenes) Jacobi on the columns of A, then a Givens QR
 // for U, in the spirit of McAdams et al. 2011 (fixed sweep count, no
-// convergence loop, no data-dependent control flow beyond selects).
+// convergence loop, no data-dependent control flow: every choice is a
+// select(), kernels/real_math.hpp, so a block of tets takes it in lanes).
 // Why one-sided rather than McAdams's eigen-analysis of A^T A: the rotation
 // angles are computed from the current columns of A V, not from A^T A, so
 // the condition number is not squared. With two singular values below
@@ -73,9 +74,10 @@ DESCENT_HOST_DEVICE inline void orthogonalize_columns(Mat3<Real>& b, Mat3<Real>&
   const Real tau = beta - alpha, rho = Real(2) * gamma;
   const Real d = tau + copysign(sqrt(tau * tau + rho * rho), tau);
   const Real len2 = d * d + rho * rho;
-  const Real inv_len = len2 > Real(0) ? Real(1) / sqrt(len2) : Real(0);
-  const Real c = len2 > Real(0) ? abs(d) * inv_len : Real(1);
-  const Real s = (d < Real(0) ? -rho : rho) * inv_len;
+  const auto nonzero = len2 > Real(0);
+  const Real inv_len = select(nonzero, Real(1) / sqrt(len2), Real(0));
+  const Real c = select(nonzero, abs(d) * inv_len, Real(1));
+  const Real s = select(d < Real(0), -rho, rho) * inv_len;
   for (int r = 0; r < 3; ++r) {
     const Real bp = b.m[3 * r + p], bq = b.m[3 * r + q];
     b.m[3 * r + p] = c * bp - s * bq;
@@ -95,14 +97,14 @@ DESCENT_HOST_DEVICE inline void order_columns(Mat3<Real>& b, Mat3<Real>& v, int 
     np += b.m[3 * r + p] * b.m[3 * r + p];
     nq += b.m[3 * r + q] * b.m[3 * r + q];
   }
-  if (nq <= np) return;
+  const auto keep = nq <= np;
   for (int r = 0; r < 3; ++r) {
-    const Real bp = b.m[3 * r + p];
-    b.m[3 * r + p] = b.m[3 * r + q];
-    b.m[3 * r + q] = -bp;
-    const Real vp = v.m[3 * r + p];
-    v.m[3 * r + p] = v.m[3 * r + q];
-    v.m[3 * r + q] = -vp;
+    const Real bp = b.m[3 * r + p], bq = b.m[3 * r + q];
+    b.m[3 * r + p] = select(keep, bp, bq);
+    b.m[3 * r + q] = select(keep, bq, -bp);
+    const Real vp = v.m[3 * r + p], vq = v.m[3 * r + q];
+    v.m[3 * r + p] = select(keep, vp, vq);
+    v.m[3 * r + q] = select(keep, vq, -vp);
   }
 }
 
@@ -114,8 +116,9 @@ DESCENT_HOST_DEVICE inline void eliminate_below(Mat3<Real>& r, Mat3<Real>& u, in
                                                 int col) {
   const Real a = r.m[3 * p + col], b = r.m[3 * q + col];
   const Real h2 = a * a + b * b;
-  const Real inv_h = h2 > Real(0) ? Real(1) / sqrt(h2) : Real(0);
-  const Real c = h2 > Real(0) ? a * inv_h : Real(1);
+  const auto nonzero = h2 > Real(0);
+  const Real inv_h = select(nonzero, Real(1) / sqrt(h2), Real(0));
+  const Real c = select(nonzero, a * inv_h, Real(1));
   const Real s = b * inv_h;
   for (int k = 0; k < 3; ++k) {
     const Real rp = r.m[3 * p + k], rq = r.m[3 * q + k];
@@ -131,10 +134,14 @@ DESCENT_HOST_DEVICE inline void eliminate_below(Mat3<Real>& r, Mat3<Real>& u, in
 
 template <class Real>
 DESCENT_HOST_DEVICE inline Svd3<Real> svd3(const Mat3<Real>& a) {
+  // The largest |a_k|, NaN skipped (as fmax skips it).
   Real max_abs = 0;
-  for (int k = 0; k < 9; ++k) max_abs = fmax(max_abs, abs(a.m[k]));
-  int exponent = 0;
-  frexp(max_abs, &exponent);  // max_abs = m 2^exponent, m in [0.5, 1); 0 for a = 0
+  for (int k = 0; k < 9; ++k) {
+    const Real entry = abs(a.m[k]);
+    max_abs = select(entry > max_abs, entry, max_abs);
+  }
+  // max_abs = m 2^exponent, m in [0.5, 1); 0 for a = 0.
+  const auto exponent = frexp_exponent(max_abs);
   const Real to_unit = ldexp(Real(1), -exponent);
 
   Mat3<Real> b;

@@ -1,8 +1,9 @@
 // The host element pass in lanes (kernels/cpu/lane_models.hpp) gives bitwise
 // the tet-by-tet gradient and Hessian diagonal of every model that runs in
 // lanes, in double and float, on tet counts that are not a multiple of the
-// lane width and on ranges that start inside a block; the models that branch
-// on reals do not run in lanes. So are the Hessian products of the spectrum
+// lane width and on ranges that start inside a block; corotated and arap
+// (the SVD's selects) included, and every model with conversion (the
+// interpolants too). So are the Hessian products of the spectrum
 // estimate's pass. The energies in double lanes are bitwise the
 // tet-by-tet energies in double, from double and float data, inverted
 // elements included.
@@ -26,8 +27,8 @@ static_assert(LaneModel<NeoHookean<double>, kLaneWidth<double>>);
 static_assert(LaneModel<StVK<float>, kLaneWidth<float>>);
 static_assert(LaneModel<MooneyRivlin<double>, kLaneWidth<double>>);
 static_assert(LaneModel<Fung<float>, kLaneWidth<float>>);
-static_assert(!LaneModel<Corotated<double>, kLaneWidth<double>>);
-static_assert(!LaneModel<Arap<double>, kLaneWidth<double>>);
+static_assert(LaneModel<Corotated<double>, kLaneWidth<double>>);
+static_assert(LaneModel<Arap<float>, kLaneWidth<float>>);
 
 // `n` random deformed tets, each with its own 4 vertices (3 reals each).
 template <class Real>
@@ -57,10 +58,23 @@ TetSet<Real> random_tets(int n, std::uint64_t seed) {
   return set;
 }
 
+// For a model defined on inverted elements: random tets with every third
+// turned inside out (two corners swapped) and the last collapsed to a point
+// (F = 0), where the SVD's selects take their other sides.
+template <class Real, class Model>
+TetSet<Real> test_tets(int n, std::uint64_t seed) {
+  TetSet<Real> set = random_tets<Real>(n, seed);
+  if constexpr (Model::kInvertible) {
+    for (int t = 0; t < n; t += 3) std::swap(set.tets[4 * t], set.tets[4 * t + 1]);
+    for (int a = 1; a < 4; ++a) set.tets[4 * (n - 1) + a] = set.tets[4 * (n - 1)];
+  }
+  return set;
+}
+
 // The lane pass against the tet-by-tet math over tets [begin, n), bit for bit.
 template <class Real, class Model>
 void expect_lanes_match(const Model& model, int n, index_t begin) {
-  const TetSet<Real> set = random_tets<Real>(n, 7 + n);
+  const TetSet<Real> set = test_tets<Real, Model>(n, 7 + n);
   std::vector<Real> grad(12 * n, Real(-1)), diag(12 * n, Real(-1));
   HostExec exec;
   loops::ElementOut<Real> out;
@@ -93,7 +107,7 @@ void expect_lanes_match(const Model& model, int n, index_t begin) {
 // tet over tets [begin, n), bit for bit.
 template <class Real, class Model>
 void expect_products_match(const Model& model, int n, index_t begin) {
-  const TetSet<Real> set = random_tets<Real>(n, 5 + n);
+  const TetSet<Real> set = test_tets<Real, Model>(n, 5 + n);
   std::mt19937_64 rng(3 + n);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   std::vector<Real> p(set.x.size());
@@ -135,10 +149,114 @@ void every_lane_model() {
   expect_lanes_match_everywhere<Real>(StVK<Real>::from_young_poisson(e, nu));
   expect_lanes_match_everywhere<Real>(MooneyRivlin<Real>::from_young_poisson(e, nu, Real(1e4)));
   expect_lanes_match_everywhere<Real>(Fung<Real>::from_young_poisson(e, nu, Real(1e4), Real(2)));
+  expect_lanes_match_everywhere<Real>(Corotated<Real>::from_young_poisson(e, nu));
+  expect_lanes_match_everywhere<Real>(Arap<Real>::from_young_poisson(e, nu));
 }
 
 TEST(Lanes, DoubleEqualsTetByTet) { every_lane_model<double>(); }
 TEST(Lanes, FloatEqualsTetByTet) { every_lane_model<float>(); }
+
+// Whether the 3 reals at got are bitwise want's, a NaN standing for any
+// NaN: its sign and payload depend on the order of an operation's operands,
+// which the compiler chooses per loop, and every NaN check sees it the same.
+template <class Real>
+bool same_or_both_nan(const Real* got, const Vec3<Real>& want) {
+  const Real w[3] = {want.x, want.y, want.z};
+  for (int k = 0; k < 3; ++k)
+    if (std::memcmp(got + k, w + k, sizeof(Real)) != 0 && !(std::isnan(got[k]) && std::isnan(w[k])))
+      return false;
+  return true;
+}
+
+// With conversion: the interpolants, gradients, diagonals, Hessian products
+// and energies of the lane passes against converted_gradient,
+// converted_hessian_product and converted_energy tet by tet, bit for bit.
+// Every third tet inverted and the last collapsed (l = 1 there: the model is
+// not taken), and a band (lambda_minus, lambda_plus) = (0.6, 1.1) that puts
+// the others' l inside (0, 1) or at 0; the stored interpolants cycle through
+// 0, 0.3, 0.97 and 1, so the decay holds some. The product at an inverted
+// tet's stored l < 1 takes a model undefined there (NaN, as tet by tet).
+template <class Real, class Model>
+void expect_conversion_matches(const Model& model, int n, index_t begin) {
+  TetSet<Real> set = random_tets<Real>(n, 13 + n);
+  for (int t = 0; t < n; t += 3) std::swap(set.tets[4 * t], set.tets[4 * t + 1]);
+  for (int a = 1; a < 4; ++a) set.tets[4 * (n - 1) + a] = set.tets[4 * (n - 1)];
+  const Conversion<Real> conv{Real(0.6), Real(1.1), Real(0.05),
+                              Arap<Real>::from_young_poisson(Real(1e5), Real(0.3))};
+  const Real start[4] = {Real(0), Real(0.3), Real(0.97), Real(1)};
+  std::vector<Real> l(n), l_lanes(n);
+  for (int t = 0; t < n; ++t) l[t] = l_lanes[t] = start[t % 4];
+
+  std::vector<Real> grad(12 * n, Real(-1)), diag(12 * n, Real(-1)), hp(12 * n, Real(-1));
+  std::vector<Real> p(set.x.size());
+  for (std::size_t k = 0; k < p.size(); ++k) p[k] = static_cast<Real>(std::sin(1.0 + k));
+  HostExec exec;
+  loops::ElementOut<Real> out;
+  out.corner_grad = hp.data();
+  loops::hessian_product_pass<true>(exec, 0, model, conv, static_cast<const Real*>(l_lanes.data()),
+                                    set.x.data(), p.data(), set.tets.data(), set.rest.data(), begin,
+                                    n, out);
+  const auto wide = in_double(model);
+  const Conversion<double> wide_conv = in_double(conv);
+  std::vector<double> energy(n, -1.0);
+  element_energies_lanes<true, kLaneWidth<double>>(exec, 0, wide, wide_conv, l_lanes.data(),
+                                                   set.x.data(), set.tets.data(), set.rest.data(),
+                                                   n, energy.data());
+  out.corner_grad = grad.data();
+  out.corner_diag = diag.data();
+  loops::element_pass<true>(exec, 0, model, conv, l_lanes.data(), set.x.data(), set.tets.data(),
+                            set.rest.data(), begin, n, true, out);
+
+  int blended = 0, arap_only = 0;
+  for (index_t t = 0; t < n; ++t) {
+    const TetCorners<Real> c = loops::tet_corners(set.x.data(), set.tets.data(), t);
+    const double want_energy = converted_energy(wide, wide_conv, static_cast<double>(l[t]),
+                                                in_double(set.rest[t]), in_double(c));
+    ASSERT_EQ(std::memcmp(&energy[t], &want_energy, sizeof(double)), 0) << "energy, tet " << t;
+    if (t < begin) {
+      ASSERT_EQ(l_lanes[t], l[t]) << "interpolant outside the range, tet " << t;
+      continue;
+    }
+    const TetCorners<Real> pc = loops::tet_corners(p.data(), set.tets.data(), t);
+    Vec3<Real> want_hp[4], want_g[4], want_d[4];
+    converted_hessian_product(model, conv, l[t], set.rest[t], c, pc.x, want_hp);
+    converted_gradient(model, conv, l[t], set.rest[t], c, want_g, want_d);
+    ASSERT_EQ(std::memcmp(&l_lanes[t], &l[t], sizeof(Real)), 0) << "interpolant, tet " << t;
+    blended += l[t] > Real(0) && l[t] < Real(1);
+    arap_only += l[t] == Real(1);
+    for (int a = 0; a < 4; ++a) {
+      ASSERT_TRUE(same_or_both_nan(hp.data() + 12 * t + 3 * a, want_hp[a]))
+          << "product, tet " << t << " corner " << a;
+      ASSERT_TRUE(same_or_both_nan(grad.data() + 12 * t + 3 * a, want_g[a]))
+          << "gradient, tet " << t << " corner " << a;
+      ASSERT_TRUE(same_or_both_nan(diag.data() + 12 * t + 3 * a, want_d[a]))
+          << "diagonal, tet " << t << " corner " << a;
+    }
+  }
+  if (n - begin >= 8) {  // both sides of the blend were taken
+    EXPECT_GT(blended, 0);
+    EXPECT_GT(arap_only, 0);
+  }
+}
+
+template <class Real>
+void every_lane_model_converted() {
+  const Real e = Real(1e5), nu = Real(0.3);
+  constexpr int w = kLaneWidth<Real>;
+  for (const int n : {1, w - 1, w, 3 * w + 3})
+    for (const index_t begin : {index_t{0}, index_t{n / 2}}) {
+      expect_conversion_matches<Real>(NeoHookean<Real>::from_young_poisson(e, nu), n, begin);
+      expect_conversion_matches<Real>(StVK<Real>::from_young_poisson(e, nu), n, begin);
+      expect_conversion_matches<Real>(MooneyRivlin<Real>::from_young_poisson(e, nu, Real(1e4)), n,
+                                      begin);
+      expect_conversion_matches<Real>(Fung<Real>::from_young_poisson(e, nu, Real(1e4), Real(2)), n,
+                                      begin);
+      expect_conversion_matches<Real>(Corotated<Real>::from_young_poisson(e, nu), n, begin);
+    }
+}
+
+TEST(Lanes, DoubleConversionEqualsTetByTet) { every_lane_model_converted<double>(); }
+TEST(Lanes, FloatConversionEqualsTetByTet) { every_lane_model_converted<float>(); }
 
 // element_energies_lanes against element_energy of the widened data
 // (loops::local_energy's tet-by-tet terms), bit for bit; every third tet is
@@ -151,8 +269,9 @@ void expect_energies_match(const Model& model, int n) {
   const auto wide = in_double(model);
   std::vector<double> energy(n, -1.0);
   HostExec exec;
-  element_energies_lanes<kLaneWidth<double>>(exec, 0, wide, set.x.data(), set.tets.data(),
-                                             set.rest.data(), n, energy.data());
+  element_energies_lanes<false, kLaneWidth<double>>(
+      exec, 0, wide, Conversion<double>{}, static_cast<const Real*>(nullptr), set.x.data(),
+      set.tets.data(), set.rest.data(), n, energy.data());
   int inverted = 0;
   for (index_t t = 0; t < n; ++t) {
     const double want =
@@ -162,7 +281,9 @@ void expect_energies_match(const Model& model, int n) {
         << "tet " << t << " of " << n << ": " << energy[t] << " against " << want;
     inverted += std::isinf(want);
   }
-  if (!Model::kInvertible) EXPECT_EQ(inverted, (n + 2) / 3);  // the flips were seen
+  // The flips were seen where the model is undefined; an invertible model
+  // keeps a finite energy there.
+  EXPECT_EQ(inverted, Model::kInvertible ? 0 : (n + 2) / 3);
 }
 
 template <class Real>
@@ -174,6 +295,8 @@ void every_lane_model_energy() {
     expect_energies_match<Real>(StVK<Real>::from_young_poisson(e, nu), n);
     expect_energies_match<Real>(MooneyRivlin<Real>::from_young_poisson(e, nu, Real(1e4)), n);
     expect_energies_match<Real>(Fung<Real>::from_young_poisson(e, nu, Real(1e4), Real(2)), n);
+    expect_energies_match<Real>(Corotated<Real>::from_young_poisson(e, nu), n);
+    expect_energies_match<Real>(Arap<Real>::from_young_poisson(e, nu), n);
   }
 }
 

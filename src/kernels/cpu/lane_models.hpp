@@ -6,14 +6,20 @@
 // them (12 corner reals per tet; layout of kernels/loops.hpp). Bitwise the
 // tet-by-tet results (lanes.hpp says why), so every later sum is unchanged.
 //
-// Models whose stress and Hessian diagonal never compare reals: neo-Hookean,
-// StVK, Mooney-Rivlin and Fung. Corotated and arap (the SVD's sweeps and
-// sorting) and conversion (the interpolant's clamps) branch per tet and keep
-// the tet-by-tet loop; `lane_model` is not defined for them.
+// Models whose stress, Hessian diagonal and stress derivative choose only
+// by select() (kernels/real_math.hpp): neo-Hookean, StVK, Mooney-Rivlin,
+// Fung, and corotated and arap (the SVD's sweeps, sorting and Givens
+// rotations, kernels/svd3.hpp); with conversion (kernels/conversion.hpp,
+// the interpolant's clamps and blends as selects) each of them too. With
+// conversion (Converting) the passes read, and the element pass updates,
+// one interpolant per tet as the tet-by-tet loop does.
 #include <cstdint>
 #include <limits>
 
 #include "common/mesh.hpp"
+#include "kernels/arap.hpp"
+#include "kernels/conversion.hpp"
+#include "kernels/corotated.hpp"
 #include "kernels/cpu/lanes.hpp"
 #include "kernels/element.hpp"
 #include "kernels/element_hessian_product.hpp"
@@ -40,6 +46,19 @@ MooneyRivlin<Lanes<T, W>> lane_model(const MooneyRivlin<T>& m) {
 template <int W, class T>
 Fung<Lanes<T, W>> lane_model(const Fung<T>& m) {
   return {lane_model<W>(m.neo_hookean), m.c2, m.c3};
+}
+template <int W, class T>
+Corotated<Lanes<T, W>> lane_model(const Corotated<T>& m) {
+  return {m.mu, m.lambda};
+}
+template <int W, class T>
+Arap<Lanes<T, W>> lane_model(const Arap<T>& m) {
+  return {m.mu};
+}
+
+template <int W, class T>
+Conversion<Lanes<T, W>> lane_conversion(const Conversion<T>& c) {
+  return {c.lambda_minus, c.lambda_plus, c.decay, lane_model<W>(c.arap)};
 }
 
 // Whether Model runs in lanes of width W.
@@ -94,6 +113,21 @@ void load_lanes(const T* x, const index_t* tets, const TetRest<T>* rest, index_t
   }
 }
 
+// One value per tet (the interpolants) of the block into lanes, converted
+// to L as load_corners converts.
+template <int W, class L, class T>
+Lanes<L, W> load_values(const T* values, index_t first, int count) {
+  Lanes<L, W> v;
+  for (int l = 0; l < W; ++l) v.v[l] = static_cast<L>(values[lane_tet(first, count, l)]);
+  return v;
+}
+
+// The first `count` lanes of v into one value per tet from tet `first` on.
+template <int W, class T>
+void store_values(const Lanes<T, W>& v, index_t first, int count, T* values) {
+  for (int l = 0; l < count; ++l) values[first + l] = v.v[l];
+}
+
 // The first `count` lanes of per-corner values into 12 reals per tet from
 // tet `first` on.
 template <int W, class T>
@@ -109,18 +143,30 @@ void store_lanes(const Vec3<Lanes<T, W>> values[4], index_t first, int count, T*
 }
 
 // The gather element pass of tets [begin, end) in blocks of W: gradients to
-// corner_grad and, with `corner_diag` not null, the Hessian diagonal there.
-template <int W, class Exec, class Real, class Model>
-void element_pass_lanes(Exec& exec, int stream, const Model& model, const Real* x,
-                        const index_t* tets, const TetRest<Real>* rest, index_t begin, index_t end,
-                        Real* corner_grad, Real* corner_diag) {
+// corner_grad and, with `corner_diag` not null, the Hessian diagonal there;
+// with conversion (Converting) each tet's interpolant updated in place first.
+template <bool Converting, int W, class Exec, class Real, class Model>
+void element_pass_lanes(Exec& exec, int stream, const Model& model, const Conversion<Real>& conv,
+                        Real* interpolant, const Real* x, const index_t* tets,
+                        const TetRest<Real>* rest, index_t begin, index_t end, Real* corner_grad,
+                        Real* corner_diag) {
   using L = Lanes<Real, W>;
   const auto lanes = lane_model<W>(model);
+  const auto lane_conv = lane_conversion<W>(conv);
   for_each_block<W>(exec, stream, begin, end, [=](index_t first, int count) {
     TetCorners<L> c;
     TetRest<L> r;
     load_lanes<W>(x, tets, rest, first, count, c, r);
     Vec3<L> out[4];
+    if constexpr (Converting) {
+      L l = load_values<W, Real>(interpolant, first, count);
+      Vec3<L> diag[4];
+      converted_gradient(lanes, lane_conv, l, r, c, out, corner_diag ? diag : nullptr);
+      store_values<W>(l, first, count, interpolant);
+      store_lanes<W>(out, first, count, corner_grad);
+      if (corner_diag) store_lanes<W>(diag, first, count, corner_diag);
+      return;
+    }
     element_gradient(lanes, r, c, out);
     store_lanes<W>(out, first, count, corner_grad);
     if (!corner_diag) return;
@@ -131,39 +177,56 @@ void element_pass_lanes(Exec& exec, int stream, const Model& model, const Real* 
 
 // The gather Hessian-product pass of tets [begin, end) in blocks of W: the
 // product of each element's exact Hessian at x with the corners of p into
-// corner_out (12 reals per tet), as loops::hessian_product_pass stores it.
-template <int W, class Exec, class Real, class Model>
-void hessian_product_pass_lanes(Exec& exec, int stream, const Model& model, const Real* x,
-                                const Real* p, const index_t* tets, const TetRest<Real>* rest,
-                                index_t begin, index_t end, Real* corner_out) {
+// corner_out (12 reals per tet), as loops::hessian_product_pass stores it;
+// with conversion the blend at each tet's stored interpolant.
+template <bool Converting, int W, class Exec, class Real, class Model>
+void hessian_product_pass_lanes(Exec& exec, int stream, const Model& model,
+                                const Conversion<Real>& conv, const Real* interpolant,
+                                const Real* x, const Real* p, const index_t* tets,
+                                const TetRest<Real>* rest, index_t begin, index_t end,
+                                Real* corner_out) {
   using L = Lanes<Real, W>;
   const auto lanes = lane_model<W>(model);
+  const auto lane_conv = lane_conversion<W>(conv);
   for_each_block<W>(exec, stream, begin, end, [=](index_t first, int count) {
     TetCorners<L> c, pc;
     TetRest<L> r;
     load_lanes<W>(x, tets, rest, first, count, c, r);
     load_corners<W>(p, tets, first, count, pc);
     Vec3<L> out[4];
-    element_hessian_product(lanes, r, c, pc.x, out);
+    if constexpr (Converting)
+      converted_hessian_product(lanes, lane_conv, load_values<W, Real>(interpolant, first, count),
+                                r, c, pc.x, out);
+    else
+      element_hessian_product(lanes, r, c, pc.x, out);
     store_lanes<W>(out, first, count, corner_out);
   });
 }
 
 // energy[t] = element_energy(model, rest[t], corners of t) for tets [0,
-// num_tets), in blocks of W: the model in double (in_double's), the data in
-// T widened as in_double widens it, so each value is bitwise the one the
-// tet-by-tet energy loop (loops::local_energy) computes.
-template <int W, class Exec, class T, class Model>
-void element_energies_lanes(Exec& exec, int stream, const Model& model, const T* x,
+// num_tets), in blocks of W, or with conversion (Converting)
+// converted_energy at the tet's interpolant: the model in double
+// (in_double's), the data in T widened as in_double widens it, so each value
+// is bitwise the one the tet-by-tet energy loop (loops::local_energy)
+// computes.
+template <bool Converting, int W, class Exec, class T, class Model>
+void element_energies_lanes(Exec& exec, int stream, const Model& model,
+                            const Conversion<double>& conv, const T* interpolant, const T* x,
                             const index_t* tets, const TetRest<T>* rest, index_t num_tets,
                             double* energy) {
   using L = Lanes<double, W>;
   const auto lanes = lane_model<W>(model);
+  const auto lane_conv = lane_conversion<W>(conv);
   using LaneModelType = decltype(lanes);
   for_each_block<W>(exec, stream, 0, num_tets, [=](index_t first, int count) {
     TetCorners<L> c;
     TetRest<L> r;
     load_lanes<W>(x, tets, rest, first, count, c, r);
+    if constexpr (Converting) {
+      const L l = load_values<W, double>(interpolant, first, count);
+      store_values<W>(converted_energy(lanes, lane_conv, l, r, c), first, count, energy);
+      return;
+    }
     const Mat3<L> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], r.dm_inv);
     const L value = r.volume * lanes.energy(f);
     L j = 0;

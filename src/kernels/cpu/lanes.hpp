@@ -5,19 +5,27 @@
 // lowers each operation to the widest registers the build's -march has).
 //
 // Each lane gets bitwise the result the math gives on T alone: +, -, *, /
-// are elementwise IEEE operations (and the build contracts none into a fused
-// multiply-add, -ffp-contract=off); cube_root and exponential run the
-// steps of kernels/cube_root.hpp and kernels/exponential.hpp on whole
-// vectors, and sqrt goes lane by lane through std's. Comparisons are
-// deliberately absent: a model that branches on a real cannot be
-// instantiated on Lanes and keeps the tet-by-tet loop
-// (kernels/cpu/lane_models.hpp lists the models that can).
+// and sqrt are elementwise IEEE operations (and the build contracts none
+// into a fused multiply-add, -ffp-contract=off); abs and copysign move sign
+// bits as std's do; cube_root and exponential run the steps of
+// kernels/cube_root.hpp and kernels/exponential.hpp on whole vectors; frexp
+// and ldexp go lane by lane through std's. A comparison gives a mask, which
+// only select() and any_lane() (kernels/real_math.hpp's, for T) read: `if`
+// and `?:` on a mask do not compile, so a model that branches on a real
+// cannot be instantiated on Lanes and keeps the tet-by-tet loop; one that
+// chooses with select() computes both sides and keeps the chosen one's bits
+// (kernels/cpu/lane_models.hpp lists the models that run in lanes), and may
+// skip a side no lane of the block takes (any_lane).
 //
 // Host only: nvcc's device code has its own parallelism (one tet per thread).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include "kernels/cube_root.hpp"
 #include "kernels/exponential.hpp"
@@ -42,6 +50,18 @@ struct Lanes {
   typedef T Vector
       __attribute__((vector_size(W * sizeof(T))));  // NOLINT: GCC takes a dependent size only here
   Vector v;
+  // Per lane an integer of T's size: a comparison's result, or T's bits.
+  typedef decltype(Vector{} < Vector{}) Bits;
+  // A comparison's result: per lane all ones where true, 0 where false (NaN
+  // compares false, as for T). any_lane() reads it for a whole block.
+  struct Mask {
+    Bits bits;
+    friend bool any_lane(Mask m) {
+      for (int l = 0; l < W; ++l)
+        if (m.bits[l]) return true;
+      return false;
+    }
+  };
 
   Lanes() = default;
   // Broadcast (literals, Real(2), model parameters). x - (+0) is x for
@@ -55,6 +75,8 @@ struct Lanes {
     r.v = x;
     return r;
   }
+  // The sign bit of every lane.
+  static Bits sign_bits() { return (Bits)Lanes(T(-0.0)).v; }
 
   friend Lanes operator+(Lanes a, Lanes b) { return of(a.v + b.v); }
   friend Lanes operator-(Lanes a, Lanes b) { return of(a.v - b.v); }
@@ -88,8 +110,58 @@ struct Lanes {
     const auto special = (a == T(0)) | (a != a) | (a == std::numeric_limits<T>::infinity());
     return of(special ? x.v : (Vector)((Words)y | sign));
   }
+  friend Mask operator<(Lanes a, Lanes b) { return {a.v < b.v}; }
+  friend Mask operator>(Lanes a, Lanes b) { return {a.v > b.v}; }
+  friend Mask operator<=(Lanes a, Lanes b) { return {a.v <= b.v}; }
+  friend Mask operator>=(Lanes a, Lanes b) { return {a.v >= b.v}; }
+  friend Lanes select(Mask m, Lanes a, Lanes b) { return of(m.bits ? a.v : b.v); }
+
+  friend Lanes abs(Lanes a) { return of((Vector)((Bits)a.v & ~sign_bits())); }
+  friend Lanes copysign(Lanes magnitude, Lanes sign) {
+    return of((Vector)(((Bits)magnitude.v & ~sign_bits()) | ((Bits)sign.v & sign_bits())));
+  }
+
+  // The instruction where the build has one, else lane by lane (the
+  // portable build's SSE2 has the 16-byte ones).
   friend Lanes sqrt(Lanes a) {
+#if defined(__AVX512F__)
+    if constexpr (sizeof(Vector) == 64 && std::is_same_v<T, double>)
+      return of((Vector)_mm512_sqrt_pd((__m512d)a.v));
+    if constexpr (sizeof(Vector) == 64 && std::is_same_v<T, float>)
+      return of((Vector)_mm512_sqrt_ps((__m512)a.v));
+#endif
+#if defined(__AVX__)
+    if constexpr (sizeof(Vector) == 32 && std::is_same_v<T, double>)
+      return of((Vector)_mm256_sqrt_pd((__m256d)a.v));
+    if constexpr (sizeof(Vector) == 32 && std::is_same_v<T, float>)
+      return of((Vector)_mm256_sqrt_ps((__m256)a.v));
+#endif
+#if defined(__SSE2__)
+    if constexpr (sizeof(Vector) == 16 && std::is_same_v<T, double>)
+      return of((Vector)_mm_sqrt_pd((__m128d)a.v));
+    if constexpr (sizeof(Vector) == 16 && std::is_same_v<T, float>)
+      return of((Vector)_mm_sqrt_ps((__m128)a.v));
+#endif
     for (int l = 0; l < W; ++l) a.v[l] = std::sqrt(a.v[l]);
+    return a;
+  }
+
+  // Binary exponents, one per lane: frexp's, and ldexp by them.
+  struct Exponents {
+    int e[W];
+    Exponents operator-() const {
+      Exponents r;
+      for (int l = 0; l < W; ++l) r.e[l] = -e[l];
+      return r;
+    }
+  };
+  friend Exponents frexp_exponent(Lanes a) {
+    Exponents r;
+    for (int l = 0; l < W; ++l) std::frexp(a.v[l], &r.e[l]);
+    return r;
+  }
+  friend Lanes ldexp(Lanes a, const Exponents& n) {
+    for (int l = 0; l < W; ++l) a.v[l] = std::ldexp(a.v[l], n.e[l]);
     return a;
   }
   // The steps of exponential_scalar with masks for its branches: lanes
