@@ -6,7 +6,6 @@
 //   dPdF[(3i+m)*9 + 3j+n] = dP_im/dF_jn,
 //   h[(3a+i)*12 + 3b+j] = V sum_{m,n} dPdF[(3i+m)*9 + 3j+n] b_a,m b_b,n,
 // i.e. H = V B^T dPdF B with B the 9x12 map from corner moves to dF.
-#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -51,21 +50,20 @@ DESCENT_HOST_DEVICE inline void element_hessian(const Model& model, const TetRes
   contract_stress_derivative(dpdf, rest, h);
 }
 
-// Replaces the symmetric n x n matrix m (row-major, n <= 12) by its nearest
-// positive semi-definite matrix: eigenvalues below 0 are set to 0. Cyclic
-// Jacobi eigen-decomposition, at most 20 sweeps, stopping once the
-// off-diagonal mass is below round-off (typically 6-9 sweeps for n = 12).
-// A matrix with no negative eigenvalue is left bit-for-bit unchanged.
 // Whether the symmetric n x n matrix m + shift I (m row-major, n <= 12) is
 // positive definite: a Cholesky factorisation meets only positive pivots.
+// On lanes, per lane: it stops once every lane has met a pivot <= 0, and a
+// lane that met one runs on with NaN (its answer is already false).
 template <class Real>
-DESCENT_HOST_DEVICE inline bool positive_definite(const Real* m, int n, Real shift = 0) {
+DESCENT_HOST_DEVICE inline MaskOf<Real> positive_definite(const Real* m, int n, Real shift = 0) {
   constexpr int kMaxN = 12;
   Real l[kMaxN * kMaxN];
+  MaskOf<Real> definite = Real(0) < Real(1);
   for (int j = 0; j < n; ++j) {
     Real s = m[n * j + j] + shift;
     for (int k = 0; k < j; ++k) s -= l[n * j + k] * l[n * j + k];
-    if (!(s > Real(0))) return false;
+    definite = definite & (s > Real(0));
+    if (!any_lane(definite)) return definite;
     const Real ljj = sqrt(s);
     l[n * j + j] = ljj;
     for (int i = j + 1; i < n; ++i) {
@@ -74,24 +72,33 @@ DESCENT_HOST_DEVICE inline bool positive_definite(const Real* m, int n, Real shi
       l[n * i + j] = t / ljj;
     }
   }
-  return true;
+  return definite;
 }
 
+// Replaces the symmetric n x n matrix m (row-major, n <= 12) by its nearest
+// positive semi-definite matrix: eigenvalues below 0 are set to 0. Cyclic
+// Jacobi eigen-decomposition, at most 20 sweeps, stopping once the
+// off-diagonal mass is below round-off (typically 6-9 sweeps for n = 12).
+// A matrix with no negative eigenvalue is left bit-for-bit unchanged. On
+// lanes each lane stops where it would alone (its rotations masked off), so
+// each is bitwise its own projection.
 template <class Real>
 DESCENT_HOST_DEVICE inline void project_psd(Real* m, int n) {
   constexpr int kMaxN = 12;
   // The common case costs one Cholesky, not the eigen-decomposition: a
   // positive definite matrix stays as it is.
-  if (positive_definite(m, n)) return;
+  const MaskOf<Real> definite = positive_definite(m, n);
+  if (all_lanes(definite)) return;
   constexpr int kMaxSweeps = 20;
   // Squared relative off-diagonal mass at which the diagonal is the spectrum.
-  const Real tolerance = sizeof(Real) <= 4 ? Real(1e-14) : Real(1e-32);
+  const Real tolerance = sizeof(typename ScalarOf<Real>::type) <= 4 ? Real(1e-14) : Real(1e-32);
   Real a[kMaxN * kMaxN];
   Real v[kMaxN * kMaxN];  // columns: eigenvectors
   for (int k = 0; k < n * n; ++k) a[k] = m[k];
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) v[n * i + j] = i == j ? Real(1) : Real(0);
 
+  MaskOf<Real> done = definite;
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
     Real off = 0, total = 0;
     for (int i = 0; i < n; ++i)
@@ -100,11 +107,13 @@ DESCENT_HOST_DEVICE inline void project_psd(Real* m, int n) {
         total += sq;
         if (i != j) off += sq;
       }
-    if (off <= tolerance * total) break;
+    done = done | (off <= tolerance * total);
+    if (all_lanes(done)) break;
     for (int p = 0; p < n - 1; ++p) {
       for (int q = p + 1; q < n; ++q) {
         const Real apq = a[n * p + q];
-        if (apq == Real(0)) continue;
+        const MaskOf<Real> rotate = (!done) & (apq != Real(0));
+        if (!any_lane(rotate)) continue;
         // A <- J^T A J with J the rotation in the (p, q) plane that zeroes
         // a_pq: t = tan of its angle, the smaller root of t^2 + 2 theta t - 1.
         const Real theta = (a[n * q + q] - a[n * p + p]) / (Real(2) * apq);
@@ -113,34 +122,35 @@ DESCENT_HOST_DEVICE inline void project_psd(Real* m, int n) {
         const Real s = t * c;
         for (int k = 0; k < n; ++k) {  // columns p, q
           const Real akp = a[n * k + p], akq = a[n * k + q];
-          a[n * k + p] = c * akp - s * akq;
-          a[n * k + q] = s * akp + c * akq;
+          a[n * k + p] = select(rotate, c * akp - s * akq, akp);
+          a[n * k + q] = select(rotate, s * akp + c * akq, akq);
           const Real vkp = v[n * k + p], vkq = v[n * k + q];
-          v[n * k + p] = c * vkp - s * vkq;
-          v[n * k + q] = s * vkp + c * vkq;
+          v[n * k + p] = select(rotate, c * vkp - s * vkq, vkp);
+          v[n * k + q] = select(rotate, s * vkp + c * vkq, vkq);
         }
         for (int k = 0; k < n; ++k) {  // rows p, q
           const Real apk = a[n * p + k], aqk = a[n * q + k];
-          a[n * p + k] = c * apk - s * aqk;
-          a[n * q + k] = s * apk + c * aqk;
+          a[n * p + k] = select(rotate, c * apk - s * aqk, apk);
+          a[n * q + k] = select(rotate, s * apk + c * aqk, aqk);
         }
-        a[n * p + q] = 0;
-        a[n * q + p] = 0;
+        a[n * p + q] = select(rotate, Real(0), a[n * p + q]);
+        a[n * q + p] = select(rotate, Real(0), a[n * q + p]);
       }
     }
   }
 
-  bool has_negative = false;
-  for (int k = 0; k < n; ++k) has_negative = has_negative || a[n * k + k] < Real(0);
-  if (!has_negative) return;
+  MaskOf<Real> has_negative = Real(1) < Real(0);
+  for (int k = 0; k < n; ++k) has_negative = has_negative | (a[n * k + k] < Real(0));
+  const MaskOf<Real> project = has_negative & (!definite);
+  if (!any_lane(project)) return;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       Real sum = 0;
       for (int k = 0; k < n; ++k) {
-        const Real eigenvalue = a[n * k + k] > Real(0) ? a[n * k + k] : Real(0);
+        const Real eigenvalue = select(a[n * k + k] > Real(0), a[n * k + k], Real(0));
         sum += v[n * i + k] * eigenvalue * v[n * j + k];
       }
-      m[n * i + j] = sum;
+      m[n * i + j] = select(project, sum, m[n * i + j]);
     }
 }
 
@@ -157,15 +167,11 @@ DESCENT_HOST_DEVICE inline void project_psd_2x2(Real& p, Real& q, Real& r) {
   const Real mean = Real(0.5) * (p + r), half = Real(0.5) * (p - r);
   const Real radius = sqrt(half * half + q * q);
   const Real high = mean + radius, low = mean - radius;
-  if (low >= Real(0)) return;
-  if (high <= Real(0)) {
-    p = q = r = 0;
-    return;
-  }
+  const MaskOf<Real> keep = low >= Real(0), vanish = high <= Real(0);
   const Real scale = high / (high - low);
-  p = scale * (p - low);
-  q = scale * q;
-  r = scale * (r - low);
+  p = select(keep, p, select(vanish, Real(0), scale * (p - low)));
+  q = select(keep, q, select(vanish, Real(0), scale * q));
+  r = select(keep, r, select(vanish, Real(0), scale * (r - low)));
 }
 
 // dP/dF (layout above) of an isotropic energy density at F, projected to
@@ -184,9 +190,16 @@ DESCENT_HOST_DEVICE inline void project_isotropic_psd(const Mat3<Real>& f, Real 
   // -64 machine epsilons of its largest diagonal entry (the round-off of
   // its exact zeros, the rotations at rest) stays as it is. On the hanging
   // helix most elements take this path.
+  // On lanes, a lane that takes it keeps its dP/dF (the select at the end).
   Real scale = 0;
-  for (int i = 0; i < 9; ++i) scale = std::max(scale, abs(dpdf[10 * i]));
-  if (positive_definite(dpdf, 9, 64 * std::numeric_limits<Real>::epsilon() * scale)) return;
+  for (int i = 0; i < 9; ++i) {
+    const Real entry = abs(dpdf[10 * i]);
+    scale = select(scale < entry, entry, scale);
+  }
+  using Scalar = typename ScalarOf<Real>::type;
+  const MaskOf<Real> definite =
+      positive_definite(dpdf, 9, Real(64 * std::numeric_limits<Scalar>::epsilon()) * scale);
+  if (all_lanes(definite)) return;
   const Svd3<Real> s = svd3(f);
   // r[(3j + n) * 9 + 3a + b] = U_ja V_nb: dF = R dF^ as 9-vectors.
   Real r[81];
@@ -232,14 +245,14 @@ DESCENT_HOST_DEVICE inline void project_isotropic_psd(const Mat3<Real>& f, Real 
     for (int q = 0; q < 9; ++q) {
       Real sum = 0;
       for (int k = 0; k < 9; ++k)
-        if (blocks[9 * k + q] != Real(0)) sum += r[9 * p + k] * blocks[9 * k + q];
+        sum = select(blocks[9 * k + q] != Real(0), sum + r[9 * p + k] * blocks[9 * k + q], sum);
       rb[9 * p + q] = sum;
     }
   for (int p = 0; p < 9; ++p)
     for (int q = 0; q < 9; ++q) {
       Real sum = 0;
       for (int k = 0; k < 9; ++k) sum += rb[9 * p + k] * r[9 * q + k];
-      dpdf[9 * p + q] = sum;
+      dpdf[9 * p + q] = select(definite, dpdf[9 * p + q], sum);
     }
 }
 

@@ -26,6 +26,76 @@
 
 namespace descent::loops {
 
+// Adds one tet's element Hessian h (layout of element_hessian.hpp) to the
+// finest operator's blocks at its tet_slots, held dofs' rows and columns
+// left out.
+template <class Real>
+DESCENT_HOST_DEVICE inline void add_element_blocks(Real h[144], const index_t* tet,
+                                                   const index_t* slots, const std::uint8_t* fixed,
+                                                   Real* values) {
+  // Held dofs' rows and columns zeroed first (most tets have none).
+  if (fixed[tet[0]] | fixed[tet[1]] | fixed[tet[2]] | fixed[tet[3]])
+    for (int i = 0; i < 12; ++i)
+      if (held(fixed, 3 * tet[i / 3] + i % 3))
+        for (int j = 0; j < 12; ++j) h[12 * i + j] = h[12 * j + i] = 0;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) {
+      Real* block = values + 9 * static_cast<std::int64_t>(slots[4 * a + b]);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) block[3 * i + j] += h[(3 * a + i) * 12 + 3 * b + j];
+    }
+}
+
+// Whether all 81 entries of dP/dF are finite (per lane on lanes).
+template <class Real>
+DESCENT_HOST_DEVICE inline MaskOf<Real> finite_entries(const Real dpdf[81]) {
+  MaskOf<Real> finite = Real(0) < Real(1);
+  for (int e = 0; e < 81; ++e) finite = finite & (dpdf[e] - dpdf[e] == Real(0));
+  return finite;
+}
+
+#if !defined(__CUDACC__)
+// The host's add_element_hessians for a model that runs in lanes: blocks of
+// W tets of order[begin, end) take dP/dF, its projection and the contraction
+// in lanes (kernels/cpu/lane_models.hpp, bitwise each tet's own), then each
+// lane's Hessian is added as one tet's is.
+template <bool Converting, int W, class Exec, class Real, class Model>
+void add_element_hessians_lanes(Exec& exec, int stream, const Model& model,
+                                const Conversion<Real>& conv, const Real* interpolant,
+                                const Real* x, const index_t* tets, const TetRest<Real>* rest,
+                                const index_t* order, index_t begin, index_t end,
+                                const index_t* tet_slots, const std::uint8_t* fixed, Real* values) {
+  using L = Lanes<Real, W>;
+  const auto lanes = lane_model<W>(model);
+  const auto lane_conv = lane_conversion<W>(conv);
+  for_each_block<W>(exec, stream, begin, end, [=](index_t first, int count) {
+    const BlockTets<W> ids = block_tets<W>(first, count, order);
+    TetCorners<L> c;
+    TetRest<L> r;
+    load_lanes<W>(x, tets, rest, ids, c, r);
+    const Mat3<L> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], r.dm_inv);
+    L dpdf[81];
+    if constexpr (Converting)
+      converted_preconditioner_dpdf(lanes, lane_conv, load_values<W, Real>(interpolant, ids), f,
+                                    dpdf);
+    else
+      lanes.stress_derivative(f, dpdf);
+    const auto finite = finite_entries(dpdf);
+    project_isotropic_psd(f, dpdf);
+    L h[144];
+    contract_stress_derivative(dpdf, r, h);
+    for (int l = 0; l < count; ++l) {
+      if (!finite.bits[l]) continue;
+      Real lane_h[144];
+      for (int e = 0; e < 144; ++e) lane_h[e] = h[e].v[l];
+      const index_t t = ids.t[l];
+      add_element_blocks(lane_h, tets + 4 * static_cast<std::int64_t>(t),
+                         tet_slots + 16 * static_cast<std::int64_t>(t), fixed, values);
+    }
+  });
+}
+#endif
+
 // Adds the PSD-projected element Hessians of tets order[begin, end) at x to
 // the finest operator, held dofs' rows and columns left out. No two of
 // these tets may share a vertex (one colour of the set-up's colouring), so
@@ -33,13 +103,23 @@ namespace descent::loops {
 // count. With conversion, Eq. 19's blend at the interpolant the tet's next
 // gradient takes. An element whose Hessian is not finite (a crushed tet of
 // a model that overflows there) adds nothing: one element's curvature left
-// out costs the V-cycle little, a NaN in the operator everything.
+// out costs the V-cycle little, a NaN in the operator everything. On the
+// host a model that runs in lanes takes blocks of tets at once
+// (add_element_hessians_lanes), bitwise the same sums.
 template <bool Converting, class Exec, class Real, class Model>
 void add_element_hessians(Exec& exec, int stream, const Model& model, const Conversion<Real>& conv,
                           const Real* interpolant, const Real* x, const index_t* tets,
                           const TetRest<Real>* rest, const index_t* order, index_t begin,
                           index_t end, const index_t* tet_slots, const std::uint8_t* fixed,
                           Real* values) {
+#if !defined(__CUDACC__)
+  if constexpr (Exec::kHostMemory && LaneModel<Model, kLaneWidth<Real>>) {
+    add_element_hessians_lanes<Converting, kLaneWidth<Real>>(exec, stream, model, conv, interpolant,
+                                                             x, tets, rest, order, begin, end,
+                                                             tet_slots, fixed, values);
+    return;
+  }
+#endif
   exec.for_each(
       stream, begin, end, DESCENT_LAMBDA(index_t k) {
         const index_t t = order[k];
@@ -52,25 +132,12 @@ void add_element_hessians(Exec& exec, int stream, const Model& model, const Conv
           converted_preconditioner_dpdf(model, conv, interpolant[t], f, dpdf);
         else
           model.stress_derivative(f, dpdf);
-        bool finite = true;
-        for (int e = 0; e < 81; ++e) finite = finite && dpdf[e] - dpdf[e] == Real(0);
-        if (!finite) return;
+        if (!finite_entries(dpdf)) return;
         project_isotropic_psd(f, dpdf);
         Real h[144];
         contract_stress_derivative(dpdf, rest[t], h);
-        const index_t* tet = tets + 4 * static_cast<std::int64_t>(t);
-        // Held dofs' rows and columns zeroed first (most tets have none).
-        if (fixed[tet[0]] | fixed[tet[1]] | fixed[tet[2]] | fixed[tet[3]])
-          for (int i = 0; i < 12; ++i)
-            if (held(fixed, 3 * tet[i / 3] + i % 3))
-              for (int j = 0; j < 12; ++j) h[12 * i + j] = h[12 * j + i] = 0;
-        const index_t* slots = tet_slots + 16 * static_cast<std::int64_t>(t);
-        for (int a = 0; a < 4; ++a)
-          for (int b = 0; b < 4; ++b) {
-            Real* block = values + 9 * static_cast<std::int64_t>(slots[4 * a + b]);
-            for (int i = 0; i < 3; ++i)
-              for (int j = 0; j < 3; ++j) block[3 * i + j] += h[(3 * a + i) * 12 + 3 * b + j];
-          }
+        add_element_blocks(h, tets + 4 * static_cast<std::int64_t>(t),
+                           tet_slots + 16 * static_cast<std::int64_t>(t), fixed, values);
       });
 }
 

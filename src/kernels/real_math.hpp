@@ -27,9 +27,22 @@ DESCENT_HOST_DEVICE inline Real select(bool c, Real a, Real b) {
   return c ? a : b;
 }
 
-// Whether any lane of a choice holds: for T the choice itself. Code that
-// selects may skip computing a side that no lane takes.
+// A comparison's result: bool for T; per lane for a type of lanes, whose
+// masks combine with &, | and ! as bools do.
+template <class Real>
+using MaskOf = decltype(Real() < Real());
+
+// The real of one lane: T itself here; kernels/cpu/lanes.hpp specialises it.
+template <class Real>
+struct ScalarOf {
+  using type = Real;
+};
+
+// Whether any (all) lanes of a choice hold: for T the choice itself. Code
+// that selects may skip computing a side that no lane takes, and stop a
+// loop once every lane is done.
 DESCENT_HOST_DEVICE inline bool any_lane(bool c) { return c; }
+DESCENT_HOST_DEVICE inline bool all_lanes(bool c) { return c; }
 
 // frexp's exponent of x alone: x = m 2^e with |m| in [0.5, 1), 0 for x = 0.
 template <class Real>

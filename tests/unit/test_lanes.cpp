@@ -3,8 +3,9 @@
 // lanes, in double and float, on tet counts that are not a multiple of the
 // lane width and on ranges that start inside a block; corotated and arap
 // (the SVD's selects) included, and every model with conversion (the
-// interpolants too). So are the Hessian products of the spectrum
-// estimate's pass. The energies in double lanes are bitwise the
+// interpolants too). So are the Hessian products of the spectrum estimate
+// and the multilevel preconditioner's projected element Hessians. The
+// energies in double lanes are bitwise the
 // tet-by-tet energies in double, from double and float data, inverted
 // elements included.
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 #include "kernels/corotated.hpp"
 #include "kernels/cpu/host_exec.hpp"
 #include "kernels/loops.hpp"
+#include "kernels/multilevel_loops.hpp"
 #include "random_element.hpp"
 
 namespace descent {
@@ -257,6 +259,83 @@ void every_lane_model_converted() {
 
 TEST(Lanes, DoubleConversionEqualsTetByTet) { every_lane_model_converted<double>(); }
 TEST(Lanes, FloatConversionEqualsTetByTet) { every_lane_model_converted<float>(); }
+
+// The multilevel preconditioner's element Hessians in lanes
+// (loops::add_element_hessians on the host) against each tet's own
+// dP/dF, projection and contraction, bit for bit: every third tet inverted
+// (dP/dF not positive definite: the projection's full path, beside tets
+// whose dP/dF is definite in the same block), some dofs held,
+// the tets taken in reverse order from `begin`, with and without conversion.
+template <class Real, bool Converting, class Model>
+void expect_hessians_match(const Model& model, int n, index_t begin) {
+  TetSet<Real> set = random_tets<Real>(n, 17 + n);
+  for (int t = 0; t < n; t += 3) std::swap(set.tets[4 * t], set.tets[4 * t + 1]);
+  const Conversion<Real> conv{Real(0.6), Real(1.1), Real(0.05),
+                              Arap<Real>::from_young_poisson(Real(1e5), Real(0.3))};
+  std::vector<Real> l(n);
+  for (int t = 0; t < n; ++t) l[t] = Real(0.3) * Real(t % 4);
+  std::vector<index_t> order(n), slots(16 * n);
+  for (int k = 0; k < n; ++k) order[k] = n - 1 - k;
+  for (int k = 0; k < 16 * n; ++k) slots[k] = k;  // each tet its own 16 blocks
+  std::vector<std::uint8_t> fixed(4 * n, 0);
+  for (int v = 1; v < 4 * n; v += 7) fixed[v] = static_cast<std::uint8_t>(1 + v % 7);
+  std::vector<Real> got(9 * 16 * n, Real(0)), want(9 * 16 * n, Real(0));
+  HostExec exec;
+  loops::add_element_hessians<Converting>(exec, 0, model, conv, l.data(), set.x.data(),
+                                          set.tets.data(), set.rest.data(), order.data(), begin, n,
+                                          slots.data(), fixed.data(), got.data());
+  int projected = 0;
+  for (index_t k = begin; k < n; ++k) {
+    const index_t t = order[k];
+    const TetCorners<Real> c = loops::tet_corners(set.x.data(), set.tets.data(), t);
+    const Mat3<Real> f = deformation_gradient(c.x[0], c.x[1], c.x[2], c.x[3], set.rest[t].dm_inv);
+    Real dpdf[81];
+    if constexpr (Converting)
+      converted_preconditioner_dpdf(model, conv, l[t], f, dpdf);
+    else
+      model.stress_derivative(f, dpdf);
+    if (!loops::finite_entries(dpdf)) continue;
+    Real before[81];
+    std::memcpy(before, dpdf, sizeof(before));
+    project_isotropic_psd(f, dpdf);
+    projected += std::memcmp(before, dpdf, sizeof(before)) != 0;
+    Real h[144];
+    contract_stress_derivative(dpdf, set.rest[t], h);
+    loops::add_element_blocks(h, set.tets.data() + 4 * t, slots.data() + 16 * t, fixed.data(),
+                              want.data());
+  }
+  for (std::size_t e = 0; e < got.size(); ++e)
+    ASSERT_EQ(std::memcmp(&got[e], &want[e], sizeof(Real)), 0)
+        << "entry " << e << " (tet " << e / 144 << ") of " << n << " from " << begin << ": "
+        << got[e] << " against " << want[e];
+  // The projection's full path was taken (with conversion an inverted tet
+  // is arap's, 2 mu I, already definite).
+  if (!Converting && n - begin >= 6) {
+    EXPECT_GT(projected, 0);
+  }
+}
+
+template <class Real>
+void every_lane_model_hessians() {
+  const Real e = Real(1e5), nu = Real(0.3);
+  constexpr int w = kLaneWidth<Real>;
+  for (const int n : {1, w - 1, w, 3 * w + 3})
+    for (const index_t begin : {index_t{0}, index_t{n / 2}}) {
+      const auto neo = NeoHookean<Real>::from_young_poisson(e, nu);
+      expect_hessians_match<Real, false>(neo, n, begin);
+      expect_hessians_match<Real, true>(neo, n, begin);
+      expect_hessians_match<Real, false>(StVK<Real>::from_young_poisson(e, nu), n, begin);
+      expect_hessians_match<Real, false>(MooneyRivlin<Real>::from_young_poisson(e, nu, Real(1e4)),
+                                         n, begin);
+      expect_hessians_match<Real, false>(Fung<Real>::from_young_poisson(e, nu, Real(1e4), Real(2)),
+                                         n, begin);
+      expect_hessians_match<Real, false>(Corotated<Real>::from_young_poisson(e, nu), n, begin);
+      expect_hessians_match<Real, false>(Arap<Real>::from_young_poisson(e, nu), n, begin);
+    }
+}
+
+TEST(Lanes, DoubleElementHessiansEqualTetByTet) { every_lane_model_hessians<double>(); }
+TEST(Lanes, FloatElementHessiansEqualTetByTet) { every_lane_model_hessians<float>(); }
 
 // element_energies_lanes against element_energy of the widened data
 // (loops::local_energy's tet-by-tet terms), bit for bit; every third tet is

@@ -78,20 +78,33 @@ void for_each_block(Exec& exec, int stream, index_t begin, index_t end, F f) {
   });
 }
 
-// The tet in lane l of the block [first, first + count): lanes past `count`
-// repeat the block's last tet, computed and not stored.
-inline index_t lane_tet(index_t first, int count, int l) {
-  return first + (l < count ? l : count - 1);
+// The tet of each lane of a block.
+template <int W>
+struct BlockTets {
+  index_t t[W];
+};
+
+// The block [first, first + count) of tets, or of the list `order` (tets
+// order[first], ...): lanes past `count` repeat the block's last tet,
+// computed and not stored.
+template <int W>
+BlockTets<W> block_tets(index_t first, int count, const index_t* order = nullptr) {
+  BlockTets<W> ids;
+  for (int l = 0; l < W; ++l) {
+    const index_t k = first + (l < count ? l : count - 1);
+    ids.t[l] = order ? order[k] : k;
+  }
+  return ids;
 }
 
 // The block's corners of x (3 reals per vertex) into lanes. The lanes' real
 // L may be wider than the data's T (a float run's energy in double,
 // kernels/in_double.hpp): each value is converted as in_double does.
 template <int W, class L, class T>
-void load_corners(const T* x, const index_t* tets, index_t first, int count,
+void load_corners(const T* x, const index_t* tets, const BlockTets<W>& ids,
                   TetCorners<Lanes<L, W>>& c) {
   for (int l = 0; l < W; ++l) {
-    const index_t* tet = tets + 4 * static_cast<std::int64_t>(lane_tet(first, count, l));
+    const index_t* tet = tets + 4 * static_cast<std::int64_t>(ids.t[l]);
     for (int a = 0; a < 4; ++a) {
       const T* p = x + 3 * static_cast<std::int64_t>(tet[a]);
       c.x[a].x.v[l] = static_cast<L>(p[0]);
@@ -103,11 +116,11 @@ void load_corners(const T* x, const index_t* tets, index_t first, int count,
 
 // The block's corners of x and its rest data into lanes.
 template <int W, class L, class T>
-void load_lanes(const T* x, const index_t* tets, const TetRest<T>* rest, index_t first, int count,
+void load_lanes(const T* x, const index_t* tets, const TetRest<T>* rest, const BlockTets<W>& ids,
                 TetCorners<Lanes<L, W>>& c, TetRest<Lanes<L, W>>& r) {
-  load_corners<W>(x, tets, first, count, c);
+  load_corners<W>(x, tets, ids, c);
   for (int l = 0; l < W; ++l) {
-    const TetRest<T>& source = rest[lane_tet(first, count, l)];
+    const TetRest<T>& source = rest[ids.t[l]];
     for (int k = 0; k < 9; ++k) r.dm_inv.m[k].v[l] = static_cast<L>(source.dm_inv.m[k]);
     r.volume.v[l] = static_cast<L>(source.volume);
   }
@@ -116,9 +129,9 @@ void load_lanes(const T* x, const index_t* tets, const TetRest<T>* rest, index_t
 // One value per tet (the interpolants) of the block into lanes, converted
 // to L as load_corners converts.
 template <int W, class L, class T>
-Lanes<L, W> load_values(const T* values, index_t first, int count) {
+Lanes<L, W> load_values(const T* values, const BlockTets<W>& ids) {
   Lanes<L, W> v;
-  for (int l = 0; l < W; ++l) v.v[l] = static_cast<L>(values[lane_tet(first, count, l)]);
+  for (int l = 0; l < W; ++l) v.v[l] = static_cast<L>(values[ids.t[l]]);
   return v;
 }
 
@@ -156,10 +169,11 @@ void element_pass_lanes(Exec& exec, int stream, const Model& model, const Conver
   for_each_block<W>(exec, stream, begin, end, [=](index_t first, int count) {
     TetCorners<L> c;
     TetRest<L> r;
-    load_lanes<W>(x, tets, rest, first, count, c, r);
+    const BlockTets<W> ids = block_tets<W>(first, count);
+    load_lanes<W>(x, tets, rest, ids, c, r);
     Vec3<L> out[4];
     if constexpr (Converting) {
-      L l = load_values<W, Real>(interpolant, first, count);
+      L l = load_values<W, Real>(interpolant, ids);
       Vec3<L> diag[4];
       converted_gradient(lanes, lane_conv, l, r, c, out, corner_diag ? diag : nullptr);
       store_values<W>(l, first, count, interpolant);
@@ -191,12 +205,13 @@ void hessian_product_pass_lanes(Exec& exec, int stream, const Model& model,
   for_each_block<W>(exec, stream, begin, end, [=](index_t first, int count) {
     TetCorners<L> c, pc;
     TetRest<L> r;
-    load_lanes<W>(x, tets, rest, first, count, c, r);
-    load_corners<W>(p, tets, first, count, pc);
+    const BlockTets<W> ids = block_tets<W>(first, count);
+    load_lanes<W>(x, tets, rest, ids, c, r);
+    load_corners<W>(p, tets, ids, pc);
     Vec3<L> out[4];
     if constexpr (Converting)
-      converted_hessian_product(lanes, lane_conv, load_values<W, Real>(interpolant, first, count),
-                                r, c, pc.x, out);
+      converted_hessian_product(lanes, lane_conv, load_values<W, Real>(interpolant, ids), r, c,
+                                pc.x, out);
     else
       element_hessian_product(lanes, r, c, pc.x, out);
     store_lanes<W>(out, first, count, corner_out);
@@ -221,9 +236,10 @@ void element_energies_lanes(Exec& exec, int stream, const Model& model,
   for_each_block<W>(exec, stream, 0, num_tets, [=](index_t first, int count) {
     TetCorners<L> c;
     TetRest<L> r;
-    load_lanes<W>(x, tets, rest, first, count, c, r);
+    const BlockTets<W> ids = block_tets<W>(first, count);
+    load_lanes<W>(x, tets, rest, ids, c, r);
     if constexpr (Converting) {
-      const L l = load_values<W, double>(interpolant, first, count);
+      const L l = load_values<W, double>(interpolant, ids);
       store_values<W>(converted_energy(lanes, lane_conv, l, r, c), first, count, energy);
       return;
     }

@@ -29,6 +29,7 @@
 
 #include "kernels/cube_root.hpp"
 #include "kernels/exponential.hpp"
+#include "kernels/real_math.hpp"
 
 namespace descent {
 
@@ -56,10 +57,18 @@ struct Lanes {
   // compares false, as for T). any_lane() reads it for a whole block.
   struct Mask {
     Bits bits;
+    friend Mask operator&(Mask a, Mask b) { return {a.bits & b.bits}; }
+    friend Mask operator|(Mask a, Mask b) { return {a.bits | b.bits}; }
+    friend Mask operator!(Mask a) { return {~a.bits}; }
     friend bool any_lane(Mask m) {
       for (int l = 0; l < W; ++l)
         if (m.bits[l]) return true;
       return false;
+    }
+    friend bool all_lanes(Mask m) {
+      for (int l = 0; l < W; ++l)
+        if (!m.bits[l]) return false;
+      return true;
     }
   };
 
@@ -114,6 +123,8 @@ struct Lanes {
   friend Mask operator>(Lanes a, Lanes b) { return {a.v > b.v}; }
   friend Mask operator<=(Lanes a, Lanes b) { return {a.v <= b.v}; }
   friend Mask operator>=(Lanes a, Lanes b) { return {a.v >= b.v}; }
+  friend Mask operator==(Lanes a, Lanes b) { return {a.v == b.v}; }
+  friend Mask operator!=(Lanes a, Lanes b) { return {a.v != b.v}; }
   friend Lanes select(Mask m, Lanes a, Lanes b) { return of(m.bits ? a.v : b.v); }
 
   friend Lanes abs(Lanes a) { return of((Vector)((Bits)a.v & ~sign_bits())); }
@@ -182,6 +193,11 @@ struct Lanes {
     const Vector infinity = Lanes(std::numeric_limits<T>::infinity()).v;
     return of(not_a_number ? x.v : over ? infinity : under ? zero : y);
   }
+};
+
+template <class T, int W>
+struct ScalarOf<Lanes<T, W>> {
+  using type = T;
 };
 
 }  // namespace descent
