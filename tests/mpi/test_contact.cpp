@@ -1,7 +1,7 @@
 // Contact with rigid obstacles on 1 to 4 ranks (docs/contact.md): a body
 // resting on a plane carries its weight, a block on an incline sticks or
 // slides as Coulomb says, a body thrown hard at a plane never crosses it in
-// any iterate (with chebyshev and with the first-order methods), P ranks
+// any iterate (with chebyshev, the first-order methods and newton), P ranks
 // give one rank's result, the projection pass keeps
 // bodies out, and an obstacle that cuts the body at its start is an error
 // naming it.
@@ -177,6 +177,43 @@ TEST(Contact, TheFirstOrderMethodsKeepEveryIterateOutside) {
       EXPECT_NEAR(-measured(sim, "obstacle0_force_y"), weight, 0.05 * weight);
     }
   }
+}
+
+// Newton with the obstacles' barrier (its contact blocks in H, its line
+// search from the longest step that keeps every gap): at the hard impact on
+// a slab 1 cm thick, which a trial ending below it would pass with a finite
+// energy, no Newton iterate has a surface vertex on or below the slab's top
+// or not finite, soft or stiff; the box lands and settles carrying its
+// weight; the quasi-static box on a plane carries its weight as with
+// chebyshev.
+TEST(Contact, NewtonKeepsEveryIterateOutsideAndCarriesTheWeight) {
+  for (double young : {1e5, 1e7}) {
+    Scene scene = hard_impact("newton", young, 200);
+    scene.solver.accuracy = 1e-6;
+    scene.obstacles[0].kind = "box";
+    scene.obstacles[0].box_min = {-1.0, -0.01, -1.0};
+    scene.obstacles[0].box_max = {1.0, 0.0, 1.0};
+    const Mesh mesh = build_scene_mesh(scene.mesh);
+    Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+    long iterates = 0;
+    const double lowest = lowest_surface_y_of_every_iterate(sim, iterates);
+    EXPECT_GT(lowest, 0.0) << "E " << young << ": a surface vertex reached y = " << lowest;
+    EXPECT_GT(iterates, 30) << "E " << young;
+    EXPECT_GT(measured(sim, "obstacle0_contacts"), 0.0) << "E " << young;
+    const double weight = box_mass(scene) * 200.0;
+    EXPECT_NEAR(-measured(sim, "obstacle0_force_y"), weight, 0.05 * weight) << "E " << young;
+  }
+  Scene scene = box_on_floor(1.5e-4, 0.5);
+  scene.time.quasistatic = true;
+  scene.solver.method = "newton";
+  scene.solver.accuracy = 1e-8;
+  const Mesh mesh = build_scene_mesh(scene.mesh);
+  Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+  for (int frame = 0; frame < 3; ++frame) ASSERT_TRUE(sim.step().finite);
+  const double weight = box_mass(scene) * kG;
+  EXPECT_NEAR(-measured(sim, "obstacle0_force_y"), weight, 5e-3 * weight);
+  EXPECT_EQ(measured(sim, "obstacle0_contacts"), 25.0);
+  EXPECT_EQ(measured(sim, "contact_penetration"), 0.0);
 }
 
 // A fixed iteration count on P ranks gives the one-rank positions to

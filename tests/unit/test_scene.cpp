@@ -1121,14 +1121,19 @@ TEST(Scene, ContactErrorsNameTheKey) {
   expect_has(error_of(scene + "[contact]\ndistance = -1\n"), "contact.distance must be >= 0");
   expect_has(error_of(scene + "[contact]\nsmoothing_velocity = 0\n"),
              "contact.smoothing_velocity must be > 0");
-  // The barrier is evaluated by chebyshev, gd, jacobi_gd, nesterov and lbfgs
-  // (so far), the last four with Jacobi's D.
-  for (const char* method : {"gd", "jacobi_gd", "nesterov", "lbfgs"})
+  // The obstacles' barrier is evaluated by chebyshev, gd, jacobi_gd,
+  // nesterov, lbfgs and newton (so far), the others with Jacobi's D, newton
+  // with its CG solve.
+  for (const char* method : {"gd", "jacobi_gd", "nesterov", "lbfgs", "newton"})
     EXPECT_NO_THROW(parse(scene + "[solver]\nmethod = \"" + method + "\"\n")) << method;
   EXPECT_NO_THROW(parse(scene + "[solver]\npreconditioner = \"multilevel\"\n"));
-  expect_has(error_of(scene + "[solver]\nmethod = \"newton\"\n"),
+  expect_has(error_of(scene + "[solver]\nmethod = \"ncg\"\n"),
              "obstacles ([[obstacle]]) with contact.method = \"energy\" (a barrier in eps) need "
-             "solver.method = chebyshev, gd, jacobi_gd, nesterov or lbfgs (got newton)");
+             "solver.method = chebyshev, gd, jacobi_gd, nesterov or lbfgs (or newton) (got ncg)");
+  expect_has(error_of(scene + "[solver]\nmethod = \"newton\"\nnewton_solver = \"ldlt\"\n"),
+             "scene.toml:6: solver.newton_solver = \"ldlt\" assembles no contact terms, and "
+             "obstacles ([[obstacle]]) with contact.method = \"energy\" put a barrier in eps; "
+             "use \"cg\"");
   expect_has(error_of(scene + "[solver]\nmethod = \"lbfgs\"\npreconditioner = \"multilevel\"\n"),
              "solver.preconditioner = \"multilevel\" knows nothing of the contact barrier of "
              "obstacles ([[obstacle]]) with solver.method = lbfgs");

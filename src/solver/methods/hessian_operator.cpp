@@ -1,7 +1,9 @@
 #include "solver/methods/hessian_operator.hpp"
 
+#include <algorithm>
 #include <variant>
 
+#include "kernels/contact_loops.hpp"
 #include "kernels/cpu/host_exec.hpp"
 #include "kernels/element_hessian.hpp"
 #include "kernels/loops.hpp"
@@ -76,6 +78,25 @@ void HessianOperator<Real>::assemble(const Real* q, bool project) {
   for (std::size_t dof = 0; dof < diagonal_.size(); ++dof)
     diagonal_[dof] =
         fixed[dof / 3] & (1u << (dof % 3)) ? Real(1) : diagonal_[dof] + vertex_curvature_[dof];
+  contact_blocks_.clear();
+}
+
+template <class Real>
+void HessianOperator<Real>::assemble_contact(const Real* q, const Real* qt, bool project) {
+  const ObstacleContact<Real>* contact = problem_.contact();
+  if (!contact || !contact->energy_method()) return;
+  const ContactView<Real> view = contact->view();
+  const auto& fixed = problem_.fixed_axes();
+  contact_blocks_.resize(9 * static_cast<std::size_t>(view.num_vertices));
+  for (index_t s = 0; s < view.num_vertices; ++s) {
+    const ContactTerms<Real> t = loops::contact_terms(view, s, q, qt, !project);
+    std::copy(t.hess, t.hess + 9, contact_blocks_.begin() + 9 * s);
+    // The Jacobi diagonal of the linear solve stays positive: an exact
+    // block's diagonal may be negative (a curved obstacle's barrier).
+    const std::size_t v = static_cast<std::size_t>(view.vertices[s]);
+    for (int i = 0; i < 3; ++i)
+      if (!(fixed[v] & (1u << i)) && t.hess[4 * i] > Real(0)) diagonal_[3 * v + i] += t.hess[4 * i];
+  }
 }
 
 template <class Real>
@@ -98,6 +119,17 @@ void HessianOperator<Real>::apply(const Real* p, Real* out) {
     }
   }
   problem_.assemble_corners(corners, out);
+  if (!contact_blocks_.empty()) {
+    const index_t* vertices = problem_.contact()->vertices().data();
+    const index_t count = static_cast<index_t>(contact_blocks_.size() / 9);
+    for (index_t s = 0; s < count; ++s) {
+      const std::size_t v = static_cast<std::size_t>(vertices[s]);
+      const Real* block = &contact_blocks_[9 * static_cast<std::size_t>(s)];
+      for (int i = 0; i < 3; ++i)
+        out[3 * v + i] += block[3 * i] * p[3 * v] + block[3 * i + 1] * p[3 * v + 1] +
+                          block[3 * i + 2] * p[3 * v + 2];
+    }
+  }
   finish(p, out);
 }
 

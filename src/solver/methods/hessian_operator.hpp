@@ -1,6 +1,7 @@
 #pragma once
 // The Hessian of eps (elastic element terms + the vertex terms' m (1/h^2 +
-// c/h) per dof) applied to a direction, distributed like the gradient: per-tet
+// c/h) per dof, and with assemble_contact the obstacles' contact terms)
+// applied to a direction, distributed like the gradient: per-tet
 // corner products, gathered to vertices and completed through the halo.
 // Rows and columns of held dofs are masked out (the product is 0 there).
 //
@@ -26,6 +27,13 @@ class HessianOperator {
   // Stores the element Hessians at q, PSD-projected when `project`, and the
   // diagonal of their assembly (Jacobi preconditioner; 1 on held dofs).
   void assemble(const Real* q, bool project);
+  // After assemble(): the obstacles' contact terms (barrier and lagged
+  // friction, contact.method = "energy") at q from step start qt join the
+  // stored operator and its diagonal, one 3x3 block per surface vertex,
+  // exact or, when `project`, the positive semi-definite form the engine's
+  // diagonal takes (kernels/obstacle_contact.hpp). Each sharer of a vertex
+  // adds the same block. Nothing without obstacle barriers.
+  void assemble_contact(const Real* q, const Real* qt, bool project);
   void apply(const Real* p, Real* out);
   const std::vector<Real>& diagonal() const { return diagonal_; }
   // The stored element Hessians (144 per local tet, row-major, rows and
@@ -42,6 +50,9 @@ class HessianOperator {
   std::vector<Real> hessians_;  // 144 per tet, row-major
   std::vector<Real> diagonal_;
   std::vector<Real> vertex_curvature_;  // m (1/h^2 + c/h) per dof
+  // 9 per surface vertex (ObstacleContact::vertices() order), row-major:
+  // the contact blocks of the last assemble_contact, empty after assemble().
+  std::vector<Real> contact_blocks_;
 };
 
 }  // namespace descent

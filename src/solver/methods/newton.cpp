@@ -60,6 +60,21 @@ int Newton<Real>::solve(double rhs_norm2, bool& positive) {
 }
 
 template <class Real>
+double Newton<Real>::longest_safe_step() {
+  const ObstacleContact<Real>* contact = this->problem_.contact();
+  if (!contact || !contact->energy_method()) return 1.0;
+  const ContactView<Real> view = contact->view();
+  Real fraction = 1;
+  for (index_t s = 0; s < view.num_vertices; ++s) {
+    const std::size_t v = static_cast<std::size_t>(view.vertices[s]);
+    fraction = std::min(
+        fraction, move_fraction(view.obstacles, view.num_obstacles, this->q_.data() + 3 * v,
+                                dq_.data() + 3 * v, kGapKept<Real>, kLeastGap<Real> * view.dh));
+  }
+  return -this->problem_.global_max(-static_cast<double>(fraction));
+}
+
+template <class Real>
 void Newton<Real>::iterate(StepStats& stats) {
   const std::size_t n = this->size();
   gradient_norms_.clear();
@@ -84,6 +99,7 @@ void Newton<Real>::iterate(StepStats& stats) {
     double slope = 0;
     for (;;) {
       hessian_.assemble(this->q_.data(), project);
+      hessian_.assemble_contact(this->q_.data(), this->qt_.data(), project);
       bool positive = true;
       if (ldlt_) {
         positive = ldlt_->solve(g_.data(), dq_.data());
@@ -121,8 +137,13 @@ void Newton<Real>::iterate(StepStats& stats) {
     stats.error_estimate = estimate;
     const bool target_met = this->spec_.accuracy > 0 && estimate <= this->spec_.accuracy;
 
-    // Armijo backtracking; eps(q) rides with the first trial.
-    double t = 1;
+    // Armijo backtracking from the longest step that keeps every surface
+    // vertex outside every obstacle; eps(q) rides with the first trial.
+    double t = longest_safe_step();
+    if (!(t > 0)) {  // a vertex held at its least gap is pushed in: no move
+      stats.stalled = true;
+      break;
+    }
     bool accepted = false;
     for (int trial = 0; trial < 60; ++trial) {
       for (std::size_t i = 0; i < n; ++i) trial_[i] = this->q_[i] + static_cast<Real>(t) * dq_[i];
