@@ -282,7 +282,8 @@ double BodyContact<Real>::measured_energy(const Real* q) const {
 }
 
 template <class Real>
-void BodyContact<Real>::add_hessian_product(const Real* q, const Real* v, Real* out) {
+void BodyContact<Real>::add_hessian_product(const Real* q, const Real* v, Real* out,
+                                            PairHessian hessian) {
   update_ghosts(q);
   {
     const Timed timed(seconds_.ghosts);
@@ -292,7 +293,7 @@ void BodyContact<Real>::add_hessian_product(const Real* q, const Real* v, Real* 
   const index_t local = halo_.num_local();
   for_each_pair(true, [&](PairKind kind, const std::array<index_t, 4>& c, const Real* x, Real kappa,
                           std::size_t pair) {
-    const PairTerms<Real> t = terms_of(kind, pair, c, x, kappa, PairHessian::exact);
+    const PairTerms<Real> t = terms_of(kind, pair, c, x, kappa, hessian);
     if (t.energy == Real(0)) return -1.0;
     for (int j = 0; j < 4; ++j) {
       if (c[j] >= local) continue;
@@ -308,6 +309,58 @@ void BodyContact<Real>::add_hessian_product(const Real* q, const Real* v, Real* 
     }
     return -1.0;
   });
+}
+
+template <class Real>
+void BodyContact<Real>::add_hessian_diagonal(const Real* q, Real* diag, const std::uint8_t* fixed) {
+  update_ghosts(q);
+  const Timed timed(seconds_.terms);
+  const index_t local = halo_.num_local();
+  for_each_pair(true, [&](PairKind kind, const std::array<index_t, 4>& c, const Real* x, Real kappa,
+                          std::size_t pair) {
+    const PairTerms<Real> t = terms_of(kind, pair, c, x, kappa, PairHessian::psd);
+    if (t.energy == Real(0)) return -1.0;
+    for (int j = 0; j < 4; ++j) {
+      if (c[j] >= local) continue;
+      const std::size_t v = static_cast<std::size_t>(halo_.local_vertex()[c[j]]);
+      for (int i = 0; i < 3; ++i)
+        if (!(fixed[v] & (1u << i))) diag[3 * v + i] += t.hess[13 * (3 * j + i)];
+    }
+    return -1.0;
+  });
+}
+
+template <class Real>
+double BodyContact<Real>::path_fraction(const Real* q, const Real* dq) {
+  update_ghosts(q);
+  std::vector<Real> moves;
+  {
+    const Timed timed(seconds_.ghosts);
+    halo_.gather(dq, moves);
+  }
+  const Timed timed(seconds_.guard);
+  const std::vector<Real>& p = halo_.positions();
+  double fraction = 1;
+  Real x0[12], x1[12], d[12];
+  for_each_contact_pair(pairs_, [&](PairKind kind, const std::array<index_t, 4>& v) {
+    gather_pair(p, v, x0);
+    gather_pair(moves, v, d);
+    for (int k = 0; k < 12; ++k) x1[k] = x0[k] + d[k];
+    const double d0 = std::sqrt(static_cast<double>(pair_distance(kind, x0, false).d2));
+    fraction =
+        std::min(fraction, pair_path_fraction(kind, x0, x1, d0, pair_kept_gap<Real>(d0, dh_)));
+  });
+  // The drift cap, by the triangle inequality: |q + s dq - anchor| <= cap.
+  for (index_t c = 0; c < halo_.num_local(); ++c) {
+    double from[3], move[3];
+    for (int i = 0; i < 3; ++i) {
+      from[i] = static_cast<double>(p[3 * c + i] - anchor_[3 * c + i]);
+      move[i] = static_cast<double>(moves[3 * c + i]);
+    }
+    const double room = cap_ - length(from), travel = length(move);
+    if (travel > room) fraction = std::min(fraction, room > 0 ? room / travel : 0.0);
+  }
+  return fraction;
 }
 
 template <class Real>

@@ -90,8 +90,21 @@ class BodyContact {
   // guard's paths, the skip bounds, the timers): for a study's measurements
   // between iterations. Collective with the contact neighbours.
   double measured_energy(const Real* q) const;
-  // The exact Hessian of the pairs at q times v, added to out (3 per vertex).
-  void add_hessian_product(const Real* q, const Real* v, Real* out);
+  // The pairs' Hessian at q, exact or in the positive semi-definite form
+  // (`hessian`), times v, added to out (3 per vertex). Collective with the
+  // contact neighbours (v's ghosts).
+  void add_hessian_product(const Real* q, const Real* v, Real* out,
+                           PairHessian hessian = PairHessian::exact);
+  // For Newton (solver/methods/newton.hpp), at q: the diagonal of the pairs'
+  // positive semi-definite Hessians added to diag (3 per vertex) on the
+  // dofs `fixed` leaves free; and, collective with the contact neighbours,
+  // the largest s in [0, 1] (this rank's part: the caller takes the least
+  // over ranks) for which the move s dq from q keeps every pair's distance
+  // above pair_kept_gap() of it (kernels/pair_path.hpp, proven along the
+  // path) and every local contact vertex within the drift cap of where the
+  // pairs were found, so that no pair outside the set comes within dh.
+  void add_hessian_diagonal(const Real* q, Real* diag, const std::uint8_t* fixed);
+  double path_fraction(const Real* q, const Real* dq);
   // Collective with the contact neighbours: the move q -> q_next of each
   // free surface vertex cut as the header says (q: the last add_gradient's)
   // and to the step's drift cap about the guess. A vertex whose move is cut

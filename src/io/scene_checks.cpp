@@ -284,9 +284,9 @@ void check_contact(const SceneDocument& doc, const Scene& scene) {
   require(doc, contact.friction >= 0, "contact.friction", ">= 0", contact.friction);
   // The barriers live in eps; chebyshev and the first-order methods gd,
   // jacobi_gd, nesterov and lbfgs evaluate them and keep every iterate (and
-  // nesterov's extrapolated points) outside, and so does newton with
-  // obstacles (its CG solve: the direct and PETSc solvers assemble no
-  // contact blocks); the others do not yet. Between bodies they need
+  // nesterov's extrapolated points) outside, and so does newton (its CG
+  // solve: the direct and PETSc solvers assemble no contact terms); the
+  // others do not yet. Between bodies they need
   // Jacobi's D (no other preconditioner knows the pairs), and so do obstacles' with the methods
   // beyond chebyshev (only chebyshev's multilevel operator takes obstacles'
   // terms in). As a projection pass after the solve contact takes any.
@@ -298,17 +298,16 @@ void check_contact(const SceneDocument& doc, const Scene& scene) {
       : between_bodies ? std::string("a scene of several bodies ([[body]], contact between them)")
                        : std::string("obstacles ([[obstacle]])");
   const std::string& method = scene.solver.method;
-  const bool newton_here = method == "newton" && !between_bodies;
   const bool evaluates_barrier = method == "chebyshev" || method == "gd" || method == "jacobi_gd" ||
-                                 method == "nesterov" || method == "lbfgs" || newton_here;
+                                 method == "nesterov" || method == "lbfgs" || method == "newton";
   if (!evaluates_barrier)
     throw InputError(
         detail::concat(doc.where("solver.method"), ": ", what,
                        " with contact.method = \"energy\" (a barrier in "
-                       "eps) need solver.method = chebyshev, gd, jacobi_gd, nesterov or lbfgs",
-                       between_bodies ? "" : " (or newton)", " (got ", method,
-                       "); contact.method = \"projection\" works with every method"));
-  if (newton_here && scene.solver.newton_solver != "cg")
+                       "eps) need solver.method = chebyshev, gd, jacobi_gd, nesterov, lbfgs or "
+                       "newton (got ",
+                       method, "); contact.method = \"projection\" works with every method"));
+  if (method == "newton" && scene.solver.newton_solver != "cg")
     throw InputError(
         detail::concat(doc.where("solver.newton_solver"), ": solver.newton_solver = \"",
                        scene.solver.newton_solver, "\" assembles no contact terms, and ", what,

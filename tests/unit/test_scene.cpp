@@ -1129,7 +1129,7 @@ TEST(Scene, ContactErrorsNameTheKey) {
   EXPECT_NO_THROW(parse(scene + "[solver]\npreconditioner = \"multilevel\"\n"));
   expect_has(error_of(scene + "[solver]\nmethod = \"ncg\"\n"),
              "obstacles ([[obstacle]]) with contact.method = \"energy\" (a barrier in eps) need "
-             "solver.method = chebyshev, gd, jacobi_gd, nesterov or lbfgs (or newton) (got ncg)");
+             "solver.method = chebyshev, gd, jacobi_gd, nesterov, lbfgs or newton (got ncg)");
   expect_has(error_of(scene + "[solver]\nmethod = \"newton\"\nnewton_solver = \"ldlt\"\n"),
              "scene.toml:6: solver.newton_solver = \"ldlt\" assembles no contact terms, and "
              "obstacles ([[obstacle]]) with contact.method = \"energy\" put a barrier in eps; "
@@ -1268,11 +1268,12 @@ TEST(Scene, ContactBetweenBodiesAsABarrierNeedsAMethodThatEvaluatesItWithJacobi)
              "contact.friction must be >= 0, got -0.3");
   EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"lbfgs\"\n"));
   EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"nesterov\"\n"));
+  EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"newton\"\n"));
   expect_has(error_of(two + "[solver]\nmethod = \"ncg\"\n"),
              "scene.toml:7: a scene of several bodies ([[body]], contact between them) with "
              "contact.method = \"energy\" (a barrier in eps) need solver.method = chebyshev, gd, "
-             "jacobi_gd, nesterov or lbfgs (got ncg); contact.method = \"projection\" works with "
-             "every method");
+             "jacobi_gd, nesterov, lbfgs or newton (got ncg); contact.method = \"projection\" "
+             "works with every method");
   expect_has(error_of(two + "[solver]\npreconditioner = \"multilevel\"\n"),
              "solver.preconditioner = \"multilevel\" knows nothing of the contact barrier of a "
              "scene of several bodies");

@@ -79,10 +79,18 @@ void HessianOperator<Real>::assemble(const Real* q, bool project) {
     diagonal_[dof] =
         fixed[dof / 3] & (1u << (dof % 3)) ? Real(1) : diagonal_[dof] + vertex_curvature_[dof];
   contact_blocks_.clear();
+  pair_hessian_ = PairHessian::none;
 }
 
 template <class Real>
 void HessianOperator<Real>::assemble_contact(const Real* q, const Real* qt, bool project) {
+  pair_hessian_ = PairHessian::none;
+  BodyContact<Real>* bodies = problem_.body_contact();
+  if (bodies && problem_.has_contact_barrier()) {
+    pair_hessian_ = project ? PairHessian::psd : PairHessian::exact;
+    pairs_at_.assign(q, q + diagonal_.size());
+    bodies->add_hessian_diagonal(q, diagonal_.data(), problem_.fixed_axes().data());
+  }
   const ObstacleContact<Real>* contact = problem_.contact();
   if (!contact || !contact->energy_method()) return;
   const ContactView<Real> view = contact->view();
@@ -119,6 +127,8 @@ void HessianOperator<Real>::apply(const Real* p, Real* out) {
     }
   }
   problem_.assemble_corners(corners, out);
+  if (pair_hessian_ != PairHessian::none)
+    problem_.body_contact()->add_hessian_product(pairs_at_.data(), p, out, pair_hessian_);
   if (!contact_blocks_.empty()) {
     const index_t* vertices = problem_.contact()->vertices().data();
     const index_t count = static_cast<index_t>(contact_blocks_.size() / 9);

@@ -27,12 +27,15 @@ class HessianOperator {
   // Stores the element Hessians at q, PSD-projected when `project`, and the
   // diagonal of their assembly (Jacobi preconditioner; 1 on held dofs).
   void assemble(const Real* q, bool project);
-  // After assemble(): the obstacles' contact terms (barrier and lagged
-  // friction, contact.method = "energy") at q from step start qt join the
-  // stored operator and its diagonal, one 3x3 block per surface vertex,
-  // exact or, when `project`, the positive semi-definite form the engine's
-  // diagonal takes (kernels/obstacle_contact.hpp). Each sharer of a vertex
-  // adds the same block. Nothing without obstacle barriers.
+  // After assemble(): the contact barriers' terms (contact.method =
+  // "energy") at q from step start qt join the operator and its diagonal:
+  // the obstacles' barrier and lagged friction, one 3x3 block per surface
+  // vertex, stored; the pairs between bodies, evaluated at q by each
+  // apply() (BodyContact::add_hessian_product, collective with the contact
+  // neighbours). Exact, or when `project` in the positive semi-definite
+  // form the engine's diagonal takes (kernels/obstacle_contact.hpp,
+  // kernels/pair_contact.hpp). Each sharer of a vertex adds the same.
+  // Nothing without barriers.
   void assemble_contact(const Real* q, const Real* qt, bool project);
   void apply(const Real* p, Real* out);
   const std::vector<Real>& diagonal() const { return diagonal_; }
@@ -53,6 +56,10 @@ class HessianOperator {
   // 9 per surface vertex (ObstacleContact::vertices() order), row-major:
   // the contact blocks of the last assemble_contact, empty after assemble().
   std::vector<Real> contact_blocks_;
+  // The pairs' form (none: no pairs) and the positions the last
+  // assemble_contact took them at (3 per local vertex).
+  PairHessian pair_hessian_ = PairHessian::none;
+  std::vector<Real> pairs_at_;
 };
 
 }  // namespace descent

@@ -60,18 +60,40 @@ int Newton<Real>::solve(double rhs_norm2, bool& positive) {
 }
 
 template <class Real>
+BodyContact<Real>* Newton<Real>::pairs() {
+  BodyContact<Real>* bodies = this->problem_.body_contact();
+  return bodies && this->problem_.has_contact_barrier() ? bodies : nullptr;
+}
+
+template <class Real>
 double Newton<Real>::longest_safe_step() {
   const ObstacleContact<Real>* contact = this->problem_.contact();
-  if (!contact || !contact->energy_method()) return 1.0;
-  const ContactView<Real> view = contact->view();
-  Real fraction = 1;
-  for (index_t s = 0; s < view.num_vertices; ++s) {
-    const std::size_t v = static_cast<std::size_t>(view.vertices[s]);
-    fraction = std::min(
-        fraction, move_fraction(view.obstacles, view.num_obstacles, this->q_.data() + 3 * v,
-                                dq_.data() + 3 * v, kGapKept<Real>, kLeastGap<Real> * view.dh));
+  const bool obstacles = contact && contact->energy_method();
+  if (!obstacles && !pairs()) return 1.0;
+  double fraction = 1;
+  if (obstacles) {
+    const ContactView<Real> view = contact->view();
+    for (index_t s = 0; s < view.num_vertices; ++s) {
+      const std::size_t v = static_cast<std::size_t>(view.vertices[s]);
+      fraction =
+          std::min(fraction, static_cast<double>(move_fraction(
+                                 view.obstacles, view.num_obstacles, this->q_.data() + 3 * v,
+                                 dq_.data() + 3 * v, kGapKept<Real>, kLeastGap<Real> * view.dh)));
+    }
   }
-  return -this->problem_.global_max(-static_cast<double>(fraction));
+  if (pairs()) fraction = std::min(fraction, pairs()->path_fraction(this->q_.data(), dq_.data()));
+  return -this->problem_.global_max(-fraction);
+}
+
+template <class Real>
+Energy Newton<Real>::local_energy(const Real* q) {
+  Energy e = this->problem_.local_energy(q, this->y_.data(), this->qt_.data());
+  if (pairs()) {
+    const double pair_energy = pairs()->measured_energy(q);
+    e.value += pair_energy;
+    e.magnitude += std::abs(pair_energy);
+  }
+  return e;
 }
 
 template <class Real>
@@ -84,6 +106,12 @@ void Newton<Real>::iterate(StepStats& stats) {
   double g0 = 0;
   double energy = std::numeric_limits<double>::quiet_NaN();  // eps(q_), once known
   for (int k = 0; k <= this->spec_.newton_iterations; ++k) {
+    // The pairs found again where a vertex has drifted half the cap from
+    // where they were found (the step's start finds them; the line search
+    // keeps every vertex within the cap): one allreduce per iteration.
+    if (k > 0 && pairs() &&
+        this->problem_.global_max(pairs()->needs_rebuild(this->q_.data()) ? 1.0 : 0.0) > 0)
+      pairs()->rebuild_here(this->q_.data());
     this->gradient(this->q_.data(), g_.data(), nullptr, false);
     double gg = this->local_dot(g_.data(), g_.data());
     this->problem_.global_dots(&gg, 1);
@@ -148,11 +176,8 @@ void Newton<Real>::iterate(StepStats& stats) {
     for (int trial = 0; trial < 60; ++trial) {
       for (std::size_t i = 0; i < n; ++i) trial_[i] = this->q_[i] + static_cast<Real>(t) * dq_[i];
       const bool with_current = std::isnan(energy);
-      const Energy local[2] = {
-          this->problem_.local_energy(trial_.data(), this->y_.data(), this->qt_.data()),
-          with_current
-              ? this->problem_.local_energy(this->q_.data(), this->y_.data(), this->qt_.data())
-              : Energy{}};
+      const Energy local[2] = {local_energy(trial_.data()),
+                               with_current ? local_energy(this->q_.data()) : Energy{}};
       const EnergySums sums = this->problem_.global_energies(local, with_current ? 2 : 1);
       if (with_current) {
         energy = sums.energy[1].value;

@@ -9,13 +9,16 @@
 // iteration whose decrement says e <= TOL at its start (newton.cpp states
 // the relation; newton_iterations stays the cap). One Newton iteration is
 // one observed iteration.
-// With obstacles and contact.method = "energy" the barrier and friction
-// are part of eps: their 3x3 blocks join H (HessianOperator::
-// assemble_contact; projected with the elements), and the line search starts
-// from the longest step that keeps every surface vertex outside every
-// obstacle along the whole path (longest_safe_step, one allreduce more per
-// Newton iteration), so no trial crosses an obstacle and every trial's
-// energy is finite. Contact between bodies is not yet Newton's.
+// With contact barriers (contact.method = "energy": obstacles, pairs
+// between bodies) the barriers and lagged friction are part of eps: their
+// Hessians join H (HessianOperator::assemble_contact; projected with the
+// elements), and the line search starts from the longest step that keeps
+// every surface vertex outside every obstacle and every pair above its
+// kept gap along the whole path (longest_safe_step, one allreduce more per
+// Newton iteration), so no trial crosses and every trial's energy is
+// finite. With pairs, one allreduce more per iteration says whether to find
+// them again, the trials' energies take the pairs', and each CG product
+// their Hessian (neighbour messages only).
 // Collectives per Newton iteration: 1 (|g|^2), per linear solve 1 + 2 per CG
 // iteration ([r.z, r.r] fused, p.Ap) and 1 (g.dq) (a second solve when the
 // exact one falls back), and one energy reduction per line-search trial (the
@@ -60,13 +63,20 @@ class Newton final : public MethodBase<Real> {
   void iterate(StepStats& stats) override;
   // PCG for H dq_ = -g_; returns iterations; positive: no p.Hp <= 0 met.
   int solve(double rhs_norm2, bool& positive);
-  // With obstacle barriers (contact.method = "energy"): the largest t <= 1
+  // With contact barriers (contact.method = "energy"): the largest t <= 1
   // for which the move t dq_ from q_ closes no surface vertex's gap to an
   // obstacle by more than the guard of the other methods lets one iteration
   // close (kernels/obstacle_contact.hpp, move_fraction: a gap is convex, so
-  // the whole path stays outside), over all ranks (one allreduce); 1
+  // the whole path stays outside), and keeps every pair between bodies
+  // above its kept gap along the path and within the pairs' drift cap
+  // (BodyContact::path_fraction), over all ranks (one allreduce); 1
   // without.
   double longest_safe_step();
+  // The pairs between bodies when eps holds their barrier, else null.
+  BodyContact<Real>* pairs();
+  // This rank's share of eps(q): LocalProblem::local_energy's terms and the
+  // pairs' (each counted once; collective with the contact neighbours).
+  Energy local_energy(const Real* q);
   HessianOperator<Real> hessian_;
   std::unique_ptr<NewtonLdlt<Real>> ldlt_;    // newton_solver = "ldlt" only
   std::unique_ptr<NewtonPetsc<Real>> petsc_;  // newton_solver = "petsc" only
