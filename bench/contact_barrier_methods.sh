@@ -2,8 +2,8 @@
 # The contact barrier in the methods that evaluate it (docs/contact.md,
 # Methods): chebyshev, lbfgs, jacobi_gd and nesterov side by side on paper 2's
 # scenes at its dt = 1/150, each step solved to e <= 1e-6 (cap 20,000
-# iterations), measured by `descent study` (truth: chebyshev run to
-# round-off). Per scene and method: the steps that met the target, the
+# iterations), measured by `descent study` (truth: the lower eps of newton's
+# and of chebyshev run to round-off). Per scene and method: the steps that met the target, the
 # median iterations and the median ms per step to the target.
 #
 #   bench/contact_barrier_methods.sh [BUILD_DIR]

@@ -9,7 +9,8 @@ jobs/contact/bowling.toml, snowman.toml and cars_spin.toml (two generated
 cars of 2,224 vertices each, where paper 2's have 2,367) at dt = 1/150 with Chebyshev descent and the contact barrier
 (contact.method = "energy", the default: the projection cannot hold the
 balls on the floor, docs/contact.md), measured by `descent study`, whose
-truth for a barrier scene is Chebyshev run to round-off. Guesses: "0" is
+truth for a barrier scene is the lower eps of Chebyshev run to round-off
+and of Newton. Guesses: "0" is
 init = "position" (x_t, zero velocity), "v(t)" init = "velocity", and
 "v(t)+f" init = "constant_acceleration" (the last step's acceleration, where
 the paper takes an explicit step's: the nearest we have).
@@ -152,7 +153,7 @@ def main():
         "Chebyshev descent with the contact barrier (contact.method = \"energy\"), dt = 1/150,",
         "5 steps per frame; ms per frame = 5 x the median step's wall time to iteration k",
         "(3 timing repeats per step, median), error e = (eps(q_k) - eps*) / (eps(x_t) - eps*)",
-        "against Chebyshev run to round-off, median over the measured steps.",
+        "against the lower of Chebyshev run to round-off and Newton, median over the measured steps.",
         "Paper 2's times (its Table 1) are of its CG solve alone; its whole frame at",
         "convergence adds its forces, system matrix and collision columns (the",
         "snowman has no collision column); ours is the whole step, contact included.",
