@@ -165,10 +165,10 @@ void Newton<Real>::iterate(StepStats& stats) {
     stats.error_estimate = estimate;
     const bool target_met = this->spec_.accuracy > 0 && estimate <= this->spec_.accuracy;
 
-    // Armijo backtracking from the longest step that keeps every surface
-    // vertex outside every obstacle; eps(q) rides with the first trial.
+    // Armijo backtracking from the longest step that keeps every contact
+    // gap (obstacles and pairs); eps(q) rides with the first trial.
     double t = longest_safe_step();
-    if (!(t > 0)) {  // a vertex held at its least gap is pushed in: no move
+    if (!(t > 0)) {  // dq closes a gap already at its floor: no move is safe
       stats.stalled = true;
       break;
     }
