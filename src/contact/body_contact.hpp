@@ -4,12 +4,16 @@
 // of vertex-triangle and edge-edge pairs (kernels/pair_contact.hpp) over the contact halo
 // (contact_halo.hpp), as part of eps for the Chebyshev iteration on the CPU.
 //
-// The pairs are found (one allgather and one all-to-all) to a reach of
-// dh + 2 cap about where the surface vertices are, and the guard keeps
-// every surface vertex within cap of that place (cap: dh plus half the
-// mean surface edge), so no pair outside the set comes within dh. They
-// are found again at each step's start, and after an accepted energy check
-// where a vertex has drifted cap/2 (the flag costs one allreduce per check).
+// The pairs are found (one allgather and one all-to-all) about where the
+// surface vertices are, each vertex with its own drift cap: a pair is
+// found when its distance is below dh plus the largest cap of each side,
+// and the guard keeps every surface vertex within its cap of that place, so
+// no pair outside the set comes within dh. A vertex's cap is dh plus half
+// the mean surface edge, or with contact.self four times the largest drift
+// the checks saw of it since the last search, within [dh, that]; a ghost's
+// comes from its holder. They are found again at each step's start, and
+// after an accepted energy check where a vertex has drifted half its cap
+// (the flag costs one allreduce per check).
 // At the step's start the guess is first pulled back along q - q_t so that
 // no pair closes by more than half its gap along that path (pull_back();
 // moves both sides share close nothing), each contact island (bodies linked
@@ -72,8 +76,9 @@ class BodyContact {
   // there.
   void rebuild_here(const Real* q);
   // Whether a local surface vertex of q (3 per local vertex) has drifted
-  // cap/2 from where the pairs were found. No communication.
-  bool needs_rebuild(const Real* q) const;
+  // half its cap from where the pairs were found; each drift is kept for
+  // the next search's caps. No communication.
+  bool needs_rebuild(const Real* q);
 
   // At q: the gradient of the pairs around this rank's vertices into
   // `partial` (`width` per vertex) and, with width 6, the dominant diagonal
@@ -203,16 +208,20 @@ class BodyContact {
   std::vector<Real> kappa_;  // per local vertex (surface ones meaningful)
   bool self_ = false;
   double mu_ = 0, eps_h_ = 0;  // contact.friction; smoothing velocity x dt
-  double dh_ = 0, eps_ = 0, cap_ = 0;
-  std::vector<Real> anchor_;    // per contact vertex: the guess (local ones used)
-  std::vector<Real> proposed_;  // per contact vertex: the guarded iteration's q_next
-  std::vector<double> cut_;     // per local contact vertex: the guard's fraction (< 1: cut)
-  std::vector<double> moves_;   // per contact vertex: measure_moves()
-  bool safe_ = false;           // the safe guard, for the rest of the step
-  bool moves_cut_ = false;      // the last guard_proven() cut a move somewhere
-  bool any_pairs_ = true;       // a pair on some rank at the last search
-  bool verify_paths_ = false;   // the next update_ghosts checks the pairs' paths
-  bool crossing_ = false;       // a path was not proven; the next energy is infinite
+  double dh_ = 0, eps_ = 0;
+  double cap_max_ = 0;              // dh plus half the mean surface edge
+  double cap_ = 0;                  // the largest cap of the last search
+  std::vector<double> caps_;        // per contact vertex: its drift cap
+  std::vector<double> drift_seen_;  // per local contact vertex: since the search
+  std::vector<Real> anchor_;        // per contact vertex: the guess (local ones used)
+  std::vector<Real> proposed_;      // per contact vertex: the guarded iteration's q_next
+  std::vector<double> cut_;         // per local contact vertex: the guard's fraction (< 1: cut)
+  std::vector<double> moves_;       // per contact vertex: measure_moves()
+  bool safe_ = false;               // the safe guard, for the rest of the step
+  bool moves_cut_ = false;          // the last guard_proven() cut a move somewhere
+  bool any_pairs_ = true;           // a pair on some rank at the last search
+  bool verify_paths_ = false;       // the next update_ghosts checks the pairs' paths
+  bool crossing_ = false;           // a path was not proven; the next energy is infinite
   long paths_caught_ = 0;
   std::vector<Real> nearest_;  // per contact vertex: its nearest pair's distance
   std::vector<Real> gathered_;

@@ -82,7 +82,7 @@ void gather(const ContactHalo<Real>& halo, const std::array<index_t, 4>& v, Real
 
 template <class Real>
 ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, bool self,
-                                const std::vector<Real>* to) {
+                                const std::vector<Real>* to, const std::vector<double>* caps) {
   const auto& gid = halo.global_id();
   const auto& body = halo.body();
   const auto& triangles = halo.triangles();
@@ -108,8 +108,19 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
     }
     return std::sqrt(d2);
   };
+  // The largest cap of the vertices v[0, count) (0 without caps).
+  auto cap_of = [&](const index_t* v, int count) {
+    double cap = 0;
+    if (caps)
+      for (int k = 0; k < count; ++k) cap = std::max(cap, (*caps)[v[k]]);
+    return cap;
+  };
   auto within = [&](const std::array<index_t, 4>& v, Real d2, int second_side) {
-    if (!to) return static_cast<double>(d2) < reach * reach;
+    if (!to) {
+      const double r =
+          reach + cap_of(v.data(), second_side) + cap_of(v.data() + second_side, 4 - second_side);
+      return static_cast<double>(d2) < r * r;
+    }
     double closing = 0;
     if (std::all_of(v.begin(), v.end(), [&](index_t c) { return body[c] == body[v[0]]; })) {
       for (int a = 0; a < second_side; ++a)
@@ -149,17 +160,26 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
   std::vector<index_t> found;
   Real x[12];
 
+  // Each primitive's box grown by its cap, a query's also by the reach; the
+  // cells sized for the mean cap.
+  double mean_cap = 0;
+  if (caps && !caps->empty()) {
+    for (double c : *caps) mean_cap += c;
+    mean_cap /= static_cast<double>(caps->size());
+  }
+  const double growth = 2 * (reach + 2 * mean_cap);
   std::vector<Aabb> triangle_boxes;
   std::vector<int> triangle_body;
   for (const auto& t : triangles) {
-    triangle_boxes.push_back(bounds(halo, to, t.data(), 3, 0.0));
+    triangle_boxes.push_back(bounds(halo, to, t.data(), 3, cap_of(t.data(), 3)));
     triangle_body.push_back(body[t[0]]);
   }
   const HashByBody triangle_hash(triangle_boxes, triangle_body,
-                                 SpatialHash::cell_size_for(triangle_boxes, 2 * reach));
+                                 SpatialHash::cell_size_for(triangle_boxes, growth));
   for (index_t p : vertices) {
     triangle_hash.candidates(
-        bounds(halo, to, &p, 1, reach), [&](int b) { return self || b != body[p]; }, found);
+        bounds(halo, to, &p, 1, reach + cap_of(&p, 1)), [&](int b) { return self || b != body[p]; },
+        found);
     for (index_t k : found) {
       const auto& t = triangles[k];
       if (p == t[0] || p == t[1] || p == t[2]) continue;
@@ -173,16 +193,15 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
   std::vector<Aabb> edge_boxes;
   std::vector<int> edge_body;
   for (const auto& e : edges) {
-    edge_boxes.push_back(bounds(halo, to, e.data(), 2, 0.0));
+    edge_boxes.push_back(bounds(halo, to, e.data(), 2, cap_of(e.data(), 2)));
     edge_body.push_back(body[e[0]]);
   }
-  const HashByBody edge_hash(edge_boxes, edge_body,
-                             SpatialHash::cell_size_for(edge_boxes, 2 * reach));
+  const HashByBody edge_hash(edge_boxes, edge_body, SpatialHash::cell_size_for(edge_boxes, growth));
   for (std::size_t i = 0; i < edges.size(); ++i) {
     const int own = body[edges[i][0]];
     edge_hash.candidates(
-        bounds(halo, to, edges[i].data(), 2, reach), [&](int b) { return self || b != own; },
-        found);
+        bounds(halo, to, edges[i].data(), 2, reach + cap_of(edges[i].data(), 2)),
+        [&](int b) { return self || b != own; }, found);
     for (index_t k : found) {
       if (static_cast<std::size_t>(k) <= i) continue;  // each pair once: the later edge
       const auto& a = edges[i];
@@ -214,8 +233,8 @@ void require_bodies_apart(double least_distance, double dh) {
 }
 
 template ContactPairs find_contact_pairs(const ContactHalo<double>&, double, bool,
-                                         const std::vector<double>*);
+                                         const std::vector<double>*, const std::vector<double>*);
 template ContactPairs find_contact_pairs(const ContactHalo<float>&, double, bool,
-                                         const std::vector<float>*);
+                                         const std::vector<float>*, const std::vector<double>*);
 
 }  // namespace descent

@@ -28,10 +28,14 @@ struct ContactPairs {
 // `reach` somewhere along the straight paths from the halo's positions to
 // `to`, each vertex's scaled by any fraction in [0, 1] (their boxes over
 // both ends meet, and their distance less their vertices' summed moves is
-// below reach).
+// below reach). With `caps` (one per contact vertex) instead: the pairs
+// closer than reach plus the largest cap of each side, those that may come
+// within reach while no vertex moves further than its cap (a point of a
+// primitive moves by a convex combination of its vertices' moves).
 template <class Real>
 ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, bool self,
-                                const std::vector<Real>* to = nullptr);
+                                const std::vector<Real>* to = nullptr,
+                                const std::vector<double>* caps = nullptr);
 
 // visit(kind, vertices) for every pair, in the pairs' order: the
 // vertex-triangle ones, then the edge-edge ones.

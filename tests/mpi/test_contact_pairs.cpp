@@ -140,15 +140,12 @@ TEST(ContactPairs, EveryRankFindsThePairsAroundItsVerticesAndEachIsCountedOnce) 
   EXPECT_EQ(mine.all, want);
 }
 
-// Every vertex-triangle and edge-edge pair of the whole surface, tried one
-// by one: the hash must find the same.
-TEST(ContactPairs, TheHashMissesNoPair) {
-  const Mesh mesh = three_bodies();
-  constexpr double reach = 0.05;
-  DistributedMesh distributed = distribute_mesh(MPI_COMM_SELF, mesh, PartitionSpec{});
-  Halo<double> halo(MPI_COMM_SELF, distributed.local);
-  ContactHalo<double> contact(distributed.local, halo);
-  contact.rebuild(distributed.local.rest_positions.data(), reach);
+// Every vertex-triangle and edge-edge pair of the halo's surface whose
+// primitives share no vertex, tried one by one: those that
+// keep(kind, ids, distance) accepts, sorted (kind 0: vertex, triangle;
+// 1: edge, edge, each edge lesser id first).
+template <class Keep>
+std::vector<Key> every_pair(const ContactHalo<double>& contact, const Mesh& mesh, Keep&& keep) {
   const auto& gid = contact.global_id();
   const auto& x = contact.positions();
   std::set<std::array<global_index_t, 2>> edge_set;
@@ -161,30 +158,80 @@ TEST(ContactPairs, TheHashMissesNoPair) {
   auto point = [&](global_index_t id, double* out) {
     for (int i = 0; i < 3; ++i) out[i] = x[3 * by_id[id] + i];
   };
-  auto body = [&](global_index_t id) { return body_of_vertex(mesh.body_vertex_offsets, id); };
-  std::vector<Key> brute;
+  std::vector<Key> kept;
   double y[12];
   for (index_t c = 0; c < contact.num_vertices(); ++c)
     for (const auto& t : contact.triangles()) {
-      if (c == t[0] || c == t[1] || c == t[2] || body(gid[c]) == body(gid[t[0]])) continue;
-      for (int k = 0; k < 4; ++k) point(gid[k == 0 ? c : t[k - 1]], y + 3 * k);
-      if (point_triangle_distance(y, false).d2 < reach * reach)
-        brute.push_back({0, gid[c], gid[t[0]], gid[t[1]], gid[t[2]]});
+      if (c == t[0] || c == t[1] || c == t[2]) continue;
+      const Key key{0, gid[c], gid[t[0]], gid[t[1]], gid[t[2]]};
+      for (int k = 0; k < 4; ++k) point(key[k + 1], y + 3 * k);
+      if (keep(key, std::sqrt(point_triangle_distance(y, false).d2))) kept.push_back(key);
     }
   for (auto a = edge_set.begin(); a != edge_set.end(); ++a)
     for (auto b = std::next(a); b != edge_set.end(); ++b) {
       const auto &e = *a, &f = *b;
       if (e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1]) continue;
-      if (body(e[0]) == body(f[0])) continue;
-      point(e[0], y);
-      point(e[1], y + 3);
-      point(f[0], y + 6);
-      point(f[1], y + 9);
-      if (edge_edge_distance(y, false).d2 < reach * reach)
-        brute.push_back({1, e[0], e[1], f[0], f[1]});
+      const Key key{1, e[0], e[1], f[0], f[1]};
+      for (int k = 0; k < 4; ++k) point(key[k + 1], y + 3 * k);
+      if (keep(key, std::sqrt(edge_edge_distance(y, false).d2))) kept.push_back(key);
     }
-  std::sort(brute.begin(), brute.end());
+  std::sort(kept.begin(), kept.end());
+  return kept;
+}
+
+// The hash must find every pair of different bodies within reach.
+TEST(ContactPairs, TheHashMissesNoPair) {
+  const Mesh mesh = three_bodies();
+  constexpr double reach = 0.05;
+  DistributedMesh distributed = distribute_mesh(MPI_COMM_SELF, mesh, PartitionSpec{});
+  Halo<double> halo(MPI_COMM_SELF, distributed.local);
+  ContactHalo<double> contact(distributed.local, halo);
+  contact.rebuild(distributed.local.rest_positions.data(), reach);
+  auto body = [&](global_index_t id) { return body_of_vertex(mesh.body_vertex_offsets, id); };
+  const std::vector<Key> brute = every_pair(contact, mesh, [&](const Key& k, double d) {
+    return body(k[1]) != body(k[k[0] == 0 ? 2 : 3]) && d < reach;
+  });
   EXPECT_EQ(pairs_on(MPI_COMM_SELF, mesh, reach, false).all, brute);
+}
+
+// With a drift cap per vertex (contact.self, contact/body_contact.hpp):
+// exactly the pairs, within one body and between bodies, whose distance is
+// below reach plus the largest cap of each side; caps that differ from
+// vertex to vertex, so a side's largest cap and each box's own growth are
+// what decide.
+TEST(ContactPairs, WithCapsEachSideReachesByItsLargestCap) {
+  const Mesh mesh = three_bodies();
+  constexpr double reach = 0.01;
+  DistributedMesh distributed = distribute_mesh(MPI_COMM_SELF, mesh, PartitionSpec{});
+  Halo<double> halo(MPI_COMM_SELF, distributed.local);
+  ContactHalo<double> contact(distributed.local, halo);
+  // Caps from 0.0011 to 0.0434 by global id, off the mesh's spacing (a
+  // distance equal to reach plus two caps would be decided by round-off);
+  // the halo's reach covers the largest.
+  auto cap_of_id = [](global_index_t id) {
+    return 0.0011 + 0.0047 * static_cast<double>((id * 7) % 10);
+  };
+  contact.rebuild(distributed.local.rest_positions.data(), reach + 2 * 0.045);
+  const auto& gid = contact.global_id();
+  std::vector<double> caps(contact.num_vertices());
+  for (index_t c = 0; c < contact.num_vertices(); ++c) caps[c] = cap_of_id(gid[c]);
+  const ContactPairs pairs = find_contact_pairs<double>(contact, reach, true, nullptr, &caps);
+  std::vector<Key> found;
+  for (int kind = 0; kind < 2; ++kind)
+    for (const auto& v : kind == 0 ? pairs.vertex_triangle : pairs.edge_edge)
+      found.push_back(key_of(contact, kind, v));
+  std::sort(found.begin(), found.end());
+
+  std::size_t within_reach = 0;  // pairs closer than reach alone
+  const std::vector<Key> brute = every_pair(contact, mesh, [&](const Key& k, double d) {
+    const int second = k[0] == 0 ? 2 : 3;  // where the second side's ids start in k
+    double cap[2] = {0, 0};
+    for (int j = 1; j < 5; ++j) cap[j >= second] = std::max(cap[j >= second], cap_of_id(k[j]));
+    within_reach += d < reach;
+    return d < reach + cap[0] + cap[1];
+  });
+  ASSERT_GT(brute.size(), within_reach + 10);
+  EXPECT_EQ(found, brute);
 }
 
 // Along paths (the guess's pull-back, contact/body_contact.hpp): exactly the
