@@ -107,23 +107,32 @@ void BodyContact<Real>::rebuild_here(const Real* q) {
   // surface edge]: the wide cap for all gave every pair of a finely meshed
   // surface's second ring (1.7M pairs, 107 per surface vertex, on the
   // shared bunny and dragon) to every iteration.
-  const index_t nv = mesh_.num_vertices();
-  std::vector<Real> caps(3 * static_cast<std::size_t>(nv), Real(0));
-  double largest = dh_;
-  for (index_t c = 0; c < halo_.num_local(); ++c) {
-    const double cap = self_ ? std::clamp(4 * drift_seen_[c], dh_, cap_max_) : cap_max_;
-    largest = std::max(largest, cap);
-    for (int i = 0; i < 3; ++i)
-      caps[3 * static_cast<std::size_t>(halo_.local_vertex()[c]) + i] = static_cast<Real>(cap);
+  // The wide cap, the same everywhere, costs no message; the adaptive
+  // ones one allreduce (the halo's reach) and one gather (the ghosts').
+  std::vector<Real> caps;  // with contact.self: 3 per local vertex, the cap in each
+  cap_ = cap_max_;
+  if (self_) {
+    caps.assign(3 * static_cast<std::size_t>(mesh_.num_vertices()), Real(0));
+    double largest = dh_;
+    for (index_t c = 0; c < halo_.num_local(); ++c) {
+      const double cap = std::clamp(4 * drift_seen_[c], dh_, cap_max_);
+      largest = std::max(largest, cap);
+      for (int i = 0; i < 3; ++i)
+        caps[3 * static_cast<std::size_t>(halo_.local_vertex()[c]) + i] = static_cast<Real>(cap);
+    }
+    cap_ = reduction_.max_of(largest);
   }
   std::fill(drift_seen_.begin(), drift_seen_.end(), 0.0);
-  cap_ = reduction_.max_of(largest);
   halo_.rebuild(q, dh_ + 2 * cap_, kappa_);
-  // Each ghost's cap from its holder, which guards its drift by it.
-  std::vector<Real> gathered;
-  halo_.gather(caps.data(), gathered);
-  caps_.resize(halo_.num_vertices());
-  for (std::size_t c = 0; c < caps_.size(); ++c) caps_[c] = static_cast<double>(gathered[3 * c]);
+  if (self_) {
+    // Each ghost's cap from its holder, which guards its drift by it.
+    std::vector<Real> gathered;
+    halo_.gather(caps.data(), gathered);
+    caps_.resize(halo_.num_vertices());
+    for (std::size_t c = 0; c < caps_.size(); ++c) caps_[c] = static_cast<double>(gathered[3 * c]);
+  } else {
+    caps_.assign(halo_.num_vertices(), cap_max_);
+  }
   pairs_ = find_contact_pairs<Real>(halo_, dh_, self_, nullptr, &caps_);
   // Without a pair on any rank no gap can close below dh before the next
   // search (the drift cap), so the iterations skip the guard's exchange.
