@@ -348,9 +348,10 @@ int run_study(MPI_Comm comm, const std::function<Scene(const std::vector<std::st
   const bool barrier = has_contact_barrier(scene);
   if (options.case_texts.empty())
     options.case_texts =
-        barrier ? std::vector<std::string>{"chebyshev", "gd", "jacobi_gd", "lbfgs", "nesterov"}
-                : std::vector<std::string>{"chebyshev", "gd",       "jacobi_gd", "ncg",
-                                           "lbfgs",     "nesterov", "newton"};
+        barrier
+            ? std::vector<std::string>{"chebyshev", "gd", "jacobi_gd", "ncg", "lbfgs", "nesterov"}
+            : std::vector<std::string>{"chebyshev", "gd",       "jacobi_gd", "ncg",
+                                       "lbfgs",     "nesterov", "newton"};
   for (const std::string& text : options.case_texts)
     options.cases.push_back(parse_study_case(text));
   std::vector<SolverSpec> specs;

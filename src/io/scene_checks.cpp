@@ -283,8 +283,8 @@ void check_contact(const SceneDocument& doc, const Scene& scene) {
           contact.smoothing_velocity);
   require(doc, contact.friction >= 0, "contact.friction", ">= 0", contact.friction);
   // The barriers live in eps; chebyshev and the first-order methods gd,
-  // jacobi_gd, nesterov and lbfgs evaluate them and keep every iterate (and
-  // nesterov's extrapolated points) outside, and so does newton (its CG
+  // jacobi_gd, nesterov, ncg and lbfgs evaluate them and keep every iterate
+  // (and nesterov's extrapolated points) outside, and so does newton (its CG
   // solve: the direct and PETSc solvers assemble no contact terms); the
   // others do not yet. Between bodies they need
   // Jacobi's D (no other preconditioner knows the pairs), and so do obstacles' with the methods
@@ -299,13 +299,14 @@ void check_contact(const SceneDocument& doc, const Scene& scene) {
                        : std::string("obstacles ([[obstacle]])");
   const std::string& method = scene.solver.method;
   const bool evaluates_barrier = method == "chebyshev" || method == "gd" || method == "jacobi_gd" ||
-                                 method == "nesterov" || method == "lbfgs" || method == "newton";
+                                 method == "nesterov" || method == "ncg" || method == "lbfgs" ||
+                                 method == "newton";
   if (!evaluates_barrier)
     throw InputError(
         detail::concat(doc.where("solver.method"), ": ", what,
                        " with contact.method = \"energy\" (a barrier in "
-                       "eps) need solver.method = chebyshev, gd, jacobi_gd, nesterov, lbfgs or "
-                       "newton (got ",
+                       "eps) need solver.method = chebyshev, gd, jacobi_gd, nesterov, ncg, lbfgs "
+                       "or newton (got ",
                        method, "); contact.method = \"projection\" works with every method"));
   if (method == "newton" && scene.solver.newton_solver != "cg")
     throw InputError(

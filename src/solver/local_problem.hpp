@@ -78,7 +78,7 @@ class LocalProblem {
   // Whether eps holds contact barriers: obstacles or pairs between bodies
   // with contact.method = "energy".
   bool has_contact_barrier() const;
-  // For methods beyond chebyshev (gd, jacobi_gd, nesterov, lbfgs) with
+  // For methods beyond chebyshev (gd, jacobi_gd, nesterov, ncg, lbfgs) with
   // contact barriers: their gradient at q (step start qt), and with width 6
   // their dominant diagonal, added to the partials the last elastic_gradient
   // assembled (`width` per vertex); `diag` (may be null; 3 per vertex)

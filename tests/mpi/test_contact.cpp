@@ -157,13 +157,14 @@ TEST(Contact, NoIterateOfAHardImpactCrossesTheFloor) {
   }
 }
 
-// The barrier in the first-order methods (gd, jacobi_gd, nesterov, lbfgs
-// evaluate it and guard each update as chebyshev does, nesterov its
-// extrapolation too): at the hard impact no observed iterate of any of them
-// has a surface vertex on or below the floor or not finite; the box lands,
-// and with lbfgs settles carrying its weight.
+// The barrier in the first-order methods (gd, jacobi_gd, nesterov, ncg,
+// lbfgs evaluate it and guard each update as chebyshev does, nesterov its
+// extrapolation too; ncg's step length takes the barrier's curvature): at
+// the hard impact no observed iterate of any of them has a surface vertex
+// on or below the floor or not finite; the box lands, and with lbfgs
+// settles carrying its weight.
 TEST(Contact, TheFirstOrderMethodsKeepEveryIterateOutside) {
-  for (const char* method : {"gd", "jacobi_gd", "nesterov", "lbfgs"}) {
+  for (const char* method : {"gd", "jacobi_gd", "nesterov", "ncg", "lbfgs"}) {
     const Scene scene = hard_impact(method, 1e6, 200);
     const Mesh mesh = build_scene_mesh(scene.mesh);
     Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);

@@ -1122,14 +1122,18 @@ TEST(Scene, ContactErrorsNameTheKey) {
   expect_has(error_of(scene + "[contact]\nsmoothing_velocity = 0\n"),
              "contact.smoothing_velocity must be > 0");
   // The obstacles' barrier is evaluated by chebyshev, gd, jacobi_gd,
-  // nesterov, lbfgs and newton (so far), the others with Jacobi's D, newton
-  // with its CG solve.
-  for (const char* method : {"gd", "jacobi_gd", "nesterov", "lbfgs", "newton"})
+  // nesterov, ncg, lbfgs and newton (so far), the others with Jacobi's D,
+  // newton with its CG solve.
+  for (const char* method : {"gd", "jacobi_gd", "nesterov", "ncg", "lbfgs", "newton"})
     EXPECT_NO_THROW(parse(scene + "[solver]\nmethod = \"" + method + "\"\n")) << method;
   EXPECT_NO_THROW(parse(scene + "[solver]\npreconditioner = \"multilevel\"\n"));
-  expect_has(error_of(scene + "[solver]\nmethod = \"ncg\"\n"),
+  // linear_cg (corotated only) has no barrier yet.
+  const std::vector<std::string> linear_cg = {"solver.method=\"linear_cg\"",
+                                              "material.model=\"corotated\""};
+  expect_has(error_of(scene, linear_cg),
              "obstacles ([[obstacle]]) with contact.method = \"energy\" (a barrier in eps) need "
-             "solver.method = chebyshev, gd, jacobi_gd, nesterov, lbfgs or newton (got ncg)");
+             "solver.method = chebyshev, gd, jacobi_gd, nesterov, ncg, lbfgs or newton (got "
+             "linear_cg)");
   expect_has(error_of(scene + "[solver]\nmethod = \"newton\"\nnewton_solver = \"ldlt\"\n"),
              "scene.toml:6: solver.newton_solver = \"ldlt\" assembles no contact terms, and "
              "obstacles ([[obstacle]]) with contact.method = \"energy\" put a barrier in eps; "
@@ -1269,15 +1273,19 @@ TEST(Scene, ContactBetweenBodiesAsABarrierNeedsAMethodThatEvaluatesItWithJacobi)
   EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"lbfgs\"\n"));
   EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"nesterov\"\n"));
   EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"newton\"\n"));
-  expect_has(error_of(two + "[solver]\nmethod = \"ncg\"\n"),
-             "scene.toml:7: a scene of several bodies ([[body]], contact between them) with "
+  EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"ncg\"\n"));
+  const std::vector<std::string> linear_cg = {"solver.method=\"linear_cg\"",
+                                              "material.model=\"corotated\""};
+  expect_has(error_of(two, linear_cg),
+             "a scene of several bodies ([[body]], contact between them) with "
              "contact.method = \"energy\" (a barrier in eps) need solver.method = chebyshev, gd, "
-             "jacobi_gd, nesterov, lbfgs or newton (got ncg); contact.method = \"projection\" "
-             "works with every method");
+             "jacobi_gd, nesterov, ncg, lbfgs or newton (got linear_cg); contact.method = "
+             "\"projection\" works with every method");
   expect_has(error_of(two + "[solver]\npreconditioner = \"multilevel\"\n"),
              "solver.preconditioner = \"multilevel\" knows nothing of the contact barrier of a "
              "scene of several bodies");
-  expect_has(error_of(kBoxScene, {"contact.self=true", "solver.method=\"ncg\""}),
+  expect_has(error_of(kBoxScene, {"contact.self=true", "solver.method=\"linear_cg\"",
+                                  "material.model=\"corotated\""}),
              "contact.self = true (contact between bodies) with contact.method");
   // The projection pass runs after any method and preconditioner.
   const std::string projection = "[contact]\nmethod = \"projection\"\n";

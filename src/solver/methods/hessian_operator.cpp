@@ -36,7 +36,7 @@ void HessianOperator<Real>::finish(const Real* p, Real* out) const {
 }
 
 template <class Real>
-void HessianOperator<Real>::product(const Real* q, const Real* p, Real* out) {
+void HessianOperator<Real>::product(const Real* q, const Real* p, Real* out, const Real* qt) {
   HostExec host;
   const LocalMesh& mesh = problem_.mesh();
   const loops::ElementOut<Real> corners{corners_.data(), nullptr, nullptr, 3};
@@ -48,6 +48,17 @@ void HessianOperator<Real>::product(const Real* q, const Real* p, Real* out) {
       },
       problem_.model());
   problem_.assemble_corners(corners_.data(), out);
+  if (qt && problem_.has_contact_barrier()) {
+    if (BodyContact<Real>* bodies = problem_.body_contact())
+      bodies->add_hessian_product(q, p, out, PairHessian::exact);
+    const ObstacleContact<Real>* contact = problem_.contact();
+    if (contact && contact->energy_method()) {
+      loops::VertexData<Real> vd{};  // the product reads the held axes and q_t only
+      vd.fixed = problem_.fixed_axes().data();
+      vd.qt = qt;
+      loops::add_contact_hessian_product(host, 0, contact->view(), vd, q, p, out);
+    }
+  }
   finish(p, out);
 }
 

@@ -21,8 +21,11 @@ class HessianOperator {
  public:
   explicit HessianOperator(LocalProblem<Real>& problem);
 
-  // out = H(q) p with the exact (unprojected) element Hessians.
-  void product(const Real* q, const Real* p, Real* out);
+  // out = H(q) p with the exact (unprojected) element Hessians; given the
+  // step start qt, with the contact barriers' exact terms at q too
+  // (contact.method = "energy": the obstacles', and the pairs' between
+  // bodies, collective with the contact neighbours).
+  void product(const Real* q, const Real* p, Real* out, const Real* qt = nullptr);
 
   // Stores the element Hessians at q, PSD-projected when `project`, and the
   // diagonal of their assembly (Jacobi preconditioner; 1 on held dofs).

@@ -41,17 +41,22 @@ void NonlinearCg<Real>::iterate(StepStats& stats) {
 #pragma omp parallel for schedule(static)
       for (std::size_t dof = 0; dof < n; ++dof) dir_[dof] = -g_[dof] / d_[dof] + b * dir_[dof];
     }
-    hessian_.product(this->q_.data(), dir_.data(), hdir_.data());
+    hessian_.product(this->q_.data(), dir_.data(), hdir_.data(), this->qt_.data());
     double curvature = this->local_dot(dir_.data(), hdir_.data());
     this->problem_.global_dots(&curvature, 1);
     // Negative curvature along dq: the Jacobi scale (t = 1) instead.
     const double t = curvature > 0 ? -slope / curvature : 1.0;
     const Real step = static_cast<Real>(this->alpha_ * t);
-    Real* q = this->q_.data();
+    const Real* q = this->q_.data();
+    Real* next = this->move_target();
 #pragma omp parallel for schedule(static)
-    for (std::size_t dof = 0; dof < n; ++dof) q[dof] += step * dir_[dof];
+    for (std::size_t dof = 0; dof < n; ++dof) next[dof] = q[dof] + step * dir_[dof];
+    this->finish_move();
     z_prev = z;
-    have_direction = true;
+    // A move the body guard cut is no longer along dq: the next direction
+    // starts again from the preconditioned gradient, as nesterov drops its
+    // momentum there.
+    have_direction = this->momentum_guarded();
     stats.iterations = k + 1;
     this->report(k + 1);
     const auto outcome = this->check(k, stats);
