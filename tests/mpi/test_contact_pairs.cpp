@@ -142,8 +142,8 @@ TEST(ContactPairs, EveryRankFindsThePairsAroundItsVerticesAndEachIsCountedOnce) 
 
 // Every vertex-triangle and edge-edge pair of the halo's surface whose
 // primitives share no vertex, tried one by one: those that
-// keep(kind, ids, distance) accepts, sorted (kind 0: vertex, triangle;
-// 1: edge, edge, each edge lesser id first).
+// keep(key, distance) accepts, sorted (key: kind, then the ids; kind 0:
+// vertex, triangle; 1: edge, edge, each edge lesser id first).
 template <class Keep>
 std::vector<Key> every_pair(const ContactHalo<double>& contact, const Mesh& mesh, Keep&& keep) {
   const auto& gid = contact.global_id();

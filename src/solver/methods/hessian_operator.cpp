@@ -48,7 +48,8 @@ void HessianOperator<Real>::product(const Real* q, const Real* p, Real* out, con
       },
       problem_.model());
   problem_.assemble_corners(corners_.data(), out);
-  if (qt && problem_.has_contact_barrier()) {
+  // The pairs exist only as a barrier (contact.method = "energy").
+  if (qt) {
     if (BodyContact<Real>* bodies = problem_.body_contact())
       bodies->add_hessian_product(q, p, out, PairHessian::exact);
     const ObstacleContact<Real>* contact = problem_.contact();
