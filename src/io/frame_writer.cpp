@@ -10,9 +10,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <system_error>
@@ -104,7 +106,7 @@ std::string xdmf_vertex_attribute(const char* name, global_index_t num_vertices,
 // grid (`first`) holds the Topology, the others include that one, so that the
 // connectivity is named once.
 std::string xdmf_grid(int frame, double time, global_index_t num_vertices, global_index_t num_tets,
-                      bool first) {
+                      int tet_id_bytes, bool first) {
   const std::string group = std::string("/frames/") + frame_name(frame);
   std::ostringstream grid;
   grid << "      <Grid Name=\"frame_" << frame_name(frame) << "\" GridType=\"Uniform\">\n"
@@ -113,8 +115,8 @@ std::string xdmf_grid(int frame, double time, global_index_t num_vertices, globa
     grid << "        <Topology TopologyType=\"Tetrahedron\" NumberOfElements=\"" << num_tets
          << "\">\n"
          << "          <DataItem Dimensions=\"" << num_tets
-         << " 4\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" << kH5Name
-         << ":/mesh/tets</DataItem>\n"
+         << " 4\" NumberType=\"Int\" Precision=\"" << tet_id_bytes << "\" Format=\"HDF\">"
+         << kH5Name << ":/mesh/tets</DataItem>\n"
          << "        </Topology>\n";
   } else {
     grid << "        <xi:include xpointer=\"xpointer(/Xdmf/Domain/Grid/Grid[1]/Topology)\"/>\n";
@@ -139,6 +141,10 @@ std::string xdmf_document(const std::string& grids) {
 }
 
 }  // namespace
+
+int frame_tet_id_bytes(global_index_t num_vertices) {
+  return num_vertices - 1 <= std::numeric_limits<std::int32_t>::max() ? 4 : 8;
+}
 
 struct FrameWriter::Impl {
   Impl(MPI_Comm comm, const std::string& dir, const FrameWriterLayout& layout, int resume_after);
@@ -171,6 +177,9 @@ struct FrameWriter::Impl {
   std::optional<BlockRouting> vertex_routing;
   // This rank's block of vertex rows, 3 doubles per row, in id order.
   std::vector<double> rest_block, positions_block, displacement_block, velocity_block;
+  // Bytes per vertex id in /mesh/tets: 4 where every id fits (half the
+  // bytes of the mesh's largest array to write at set-up), else 8.
+  int tet_id_bytes = 8;
   std::string xdmf_grids;  // rank 0: one <Grid> per written frame
   // Released in reverse order of declaration: the transfer list, then the file.
   Hid file;
@@ -291,22 +300,28 @@ double frame_time(hid_t frames, const std::string& name, const std::string& wher
 // Returns the kept frames; `later` receives the names of the others.
 std::vector<KeptFrame> verify_frames_file(hid_t file, const std::string& h5,
                                           global_index_t vertices, global_index_t tets, int last,
-                                          std::vector<std::string>& later) {
+                                          std::vector<std::string>& later, int& tet_id_bytes) {
   const hdf5::RowsShape vertex_rows{3, H5T_FLOAT, "V", "3 values per vertex",
                                     "frames hold float64 values"};
   const hdf5::RowsShape tet_rows{4, H5T_INTEGER, "T", "4 vertex ids per tet",
                                  "vertex ids must be integers"};
   auto expect_rows = [&](const std::string& name, const hdf5::RowsShape& shape,
                          global_index_t rows) {
-    const hdf5::RowsDataset set = hdf5::open_rows_dataset(file, h5, name, shape);
+    hdf5::RowsDataset set = hdf5::open_rows_dataset(file, h5, name, shape);
     if (set.rows != rows)
       throw InputError(detail::concat(h5, ": ", name, " has ", set.rows,
                                       " rows, but this run's mesh has ", rows,
                                       shape.cols == 4 ? " tets" : " vertices",
                                       ": --restart continues the run that wrote this file"));
+    return set;
   };
   expect_rows("/mesh/rest_positions", vertex_rows, vertices);
-  expect_rows("/mesh/tets", tet_rows, tets);
+  {
+    const hdf5::RowsDataset tet_set = expect_rows("/mesh/tets", tet_rows, tets);
+    Hid type =
+        owned(H5Dget_type(tet_set.dataset.get()), H5Tclose, "H5Dget_type", h5 + ":/mesh/tets");
+    tet_id_bytes = static_cast<int>(H5Tget_size(type.get()));  // as an earlier build wrote them
+  }
   if (!hdf5::object_exists(file, "/frames"))
     throw InputError(h5 + ": no group /frames: not the frames of a descent run");
   Hid frames = owned(H5Gopen2(file, "/frames", H5P_DEFAULT), H5Gclose, "H5Gopen2", h5 + ":/frames");
@@ -338,15 +353,15 @@ void FrameWriter::Impl::resume(int last) {
   const std::string h5 = (dir / kH5Name).string();
   std::vector<std::string> later;
   const std::vector<KeptFrame> kept =
-      verify_frames_file(file.get(), h5, num_vertices, num_tets, last, later);
+      verify_frames_file(file.get(), h5, num_vertices, num_tets, last, later, tet_id_bytes);
   Hid frames =
       owned(H5Gopen2(file.get(), "/frames", H5P_DEFAULT), H5Gclose, "H5Gopen2", h5 + ":/frames");
   for (const std::string& name : later)
     check(H5Ldelete(frames.get(), name.c_str(), H5P_DEFAULT), "H5Ldelete", h5 + ":/frames/" + name);
   if (rank == 0)
     for (const KeptFrame& frame : kept)
-      xdmf_grids +=
-          xdmf_grid(std::stoi(frame.name), frame.time, num_vertices, num_tets, xdmf_grids.empty());
+      xdmf_grids += xdmf_grid(std::stoi(frame.name), frame.time, num_vertices, num_tets,
+                              tet_id_bytes, xdmf_grids.empty());
   check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush", h5);
   int error = 0;
   if (rank == 0) error = write_file_atomically(dir / kXdmfName, xdmf_document(xdmf_grids));
@@ -375,11 +390,21 @@ void FrameWriter::Impl::write_mesh(std::span<const global_index_t> tet_block,
                    "H5Gcreate2", h5 + ":/mesh");
   write_vertex_block(mesh.get(), "rest_positions", rest_block, h5 + ":/mesh/rest_positions");
   const std::string tets_where = h5 + ":/mesh/tets";
-  // 64-bit: global vertex ids of a cluster-sized mesh pass 2^31.
-  Hid tets = hdf5::create_rows_dataset(mesh.get(), "tets", H5T_STD_I64LE, num_tets, 4, tets_where);
-  hdf5::write_block(tets.get(), block_transfer.get(), H5T_NATIVE_INT64, first_tet,
-                    static_cast<global_index_t>(tet_block.size() / 4), 4, tet_block.data(),
-                    tets_where);
+  const global_index_t rows = static_cast<global_index_t>(tet_block.size() / 4);
+  tet_id_bytes = frame_tet_id_bytes(num_vertices);
+  if (tet_id_bytes == 8) {  // global vertex ids of a cluster-sized mesh pass 2^31
+    Hid tets =
+        hdf5::create_rows_dataset(mesh.get(), "tets", H5T_STD_I64LE, num_tets, 4, tets_where);
+    hdf5::write_block(tets.get(), block_transfer.get(), H5T_NATIVE_INT64, first_tet, rows, 4,
+                      tet_block.data(), tets_where);
+    return;
+  }
+  // Narrowed here rather than by HDF5's conversion, which would write
+  // through its conversion buffer.
+  const std::vector<std::int32_t> narrow(tet_block.begin(), tet_block.end());
+  Hid tets = hdf5::create_rows_dataset(mesh.get(), "tets", H5T_STD_I32LE, num_tets, 4, tets_where);
+  hdf5::write_block(tets.get(), block_transfer.get(), H5T_NATIVE_INT32, first_tet, rows, 4,
+                    narrow.data(), tets_where);
 }
 
 void FrameWriter::Impl::write_vertex_block(hid_t group, const char* name,
@@ -452,7 +477,7 @@ void FrameWriter::Impl::write_frame(int frame, double time, std::span<const doub
   // The index names the frame only once its data is in the file.
   int error = 0;
   if (rank == 0) {
-    xdmf_grids += xdmf_grid(frame, time, num_vertices, num_tets, xdmf_grids.empty());
+    xdmf_grids += xdmf_grid(frame, time, num_vertices, num_tets, tet_id_bytes, xdmf_grids.empty());
     error = write_file_atomically(dir / kXdmfName, xdmf_document(xdmf_grids));
   }
   throw_if_rank0_failed(comm, error, detail::concat("cannot write ", (dir / kXdmfName).string()));

@@ -13,7 +13,8 @@
 //
 // File layout (DIR/frames.h5), every vertex array float64 [num_vertices, 3]
 // in input vertex order:
-//   /mesh/tets                  int64 [num_tets, 4]  global vertex ids, input order
+//   /mesh/tets                  int32 [num_tets, 4]  global vertex ids, input order
+//                               (int64 where an id passes 2^31 - 1)
 //   /mesh/rest_positions
 //   /frames/NNNNNN/positions    one group per written frame, NNNNNN its number
 //   /frames/NNNNNN/displacement positions - rest_positions
@@ -24,7 +25,8 @@
 // all data by reference into frames.h5 (relative paths, so DIR can move).
 // Each grid has its Time, the frame's positions as Geometry (ParaView shows
 // the deformed body) and node Attributes "displacement" and "velocity"
-// (vectors). The first grid holds the Topology (NumberType Int, Precision 8);
+// (vectors). The first grid holds the Topology (NumberType Int, Precision 4
+// or 8 as /mesh/tets);
 // the others include it by xpointer. meshio's TimeSeriesReader takes its
 // points and cells from that first grid: for a run, frame 0, written before
 // the first step, at rest. So read_points_cells() is the rest mesh, and
@@ -42,6 +44,10 @@
 #include "common/mesh.hpp"
 
 namespace descent {
+
+// Bytes per vertex id in /mesh/tets for a mesh of num_vertices: 4 where
+// every id fits in int32, else 8.
+int frame_tet_id_bytes(global_index_t num_vertices);
 
 struct FrameWriterLayout {
   global_index_t num_global_vertices = 0;

@@ -163,13 +163,15 @@ std::string frame_name(int frame) {
   return name;
 }
 
-void check_h5(const fs::path& h5_path) {
+// `tet_type`: the file type of /mesh/tets (int32 for this small mesh; int64
+// in a file an earlier build wrote).
+void check_h5(const fs::path& h5_path, hid_t tet_type = H5T_STD_I32LE) {
   const hid_t file = H5Fopen(h5_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(file, 0) << h5_path;
 
   const std::vector<hsize_t> tets_dims = {kNumTets, 4};
   EXPECT_EQ(dataset_dims(file, "/mesh/tets"), tets_dims);
-  EXPECT_TRUE(dataset_type_is(file, "/mesh/tets", H5T_STD_I64LE)) << "ids past 2^31 fit";
+  EXPECT_TRUE(dataset_type_is(file, "/mesh/tets", tet_type)) << "ids below 2^31 take 4 bytes";
   const auto tets =
       read_dataset<global_index_t>(file, "/mesh/tets", H5T_NATIVE_INT64, 4 * kNumTets);
   ASSERT_EQ(tets.size(), std::size_t{4 * kNumTets});
@@ -236,13 +238,16 @@ std::vector<double> time_values(const std::string& xdmf) {
 // The XDMF index as text: one Uniform grid per frame, the topology in the
 // first and included by the others, three vertex arrays per frame, relative
 // paths, right sizes.
-void check_xdmf(const fs::path& xdmf_path, std::size_t frames_written) {
+void check_xdmf(const fs::path& xdmf_path, std::size_t frames_written, int tet_id_bytes = 4) {
   const std::string xdmf = read_text(xdmf_path);
   EXPECT_EQ(count_occurrences(xdmf, "CollectionType=\"Temporal\""), 1u) << xdmf;
   EXPECT_EQ(count_occurrences(xdmf, "GridType=\"Uniform\""), frames_written) << xdmf;
   EXPECT_EQ(count_occurrences(xdmf, "<Time Value="), frames_written) << xdmf;
   EXPECT_EQ(count_occurrences(xdmf, "TopologyType=\"Tetrahedron\" NumberOfElements=\"10\""), 1u);
-  EXPECT_EQ(count_occurrences(xdmf, "Dimensions=\"10 4\" NumberType=\"Int\" Precision=\"8\""), 1u);
+  EXPECT_EQ(count_occurrences(xdmf, "Dimensions=\"10 4\" NumberType=\"Int\" Precision=\"" +
+                                        std::to_string(tet_id_bytes) + "\""),
+            1u)
+      << "the index gives /mesh/tets' own width";
   EXPECT_EQ(count_occurrences(xdmf, ">frames.h5:/mesh/tets</DataItem>"), 1u);
   EXPECT_EQ(count_occurrences(xdmf, "xmlns:xi=\"http://www.w3.org/2001/XInclude\""), 1u);
   EXPECT_EQ(count_occurrences(
@@ -309,6 +314,14 @@ TEST(FrameWriter, RanksWithoutRowsStillTakePart) {
       "rank0_owns_all", [](global_index_t) { return 0; }, [](global_index_t) { return 0; });
 }
 
+// Ids up to 2^31 - 1 fit in int32; one more vertex needs int64.
+TEST(FrameWriter, VertexIdsTakeFourBytesWhileTheyFitInt32) {
+  const global_index_t int32_ids = global_index_t{1} << 31;  // ids 0 .. 2^31 - 1
+  EXPECT_EQ(frame_tet_id_bytes(kNumVertices), 4);
+  EXPECT_EQ(frame_tet_id_bytes(int32_ids), 4);
+  EXPECT_EQ(frame_tet_id_bytes(int32_ids + 1), 8);
+}
+
 // A run killed after frame 12 but checkpointed at frame 7 resumes after 7:
 // frame 12 is dropped, the index lists frames 0 and 7 in full again, and
 // frame 12 can be written anew.
@@ -334,6 +347,49 @@ TEST(FrameWriter, ResumingDropsLaterFramesAndRebuildsTheIndex) {
   if (world_rank() == 0) {
     check_xdmf(dir.path() / "frames.xdmf", kFrames.size());
     check_h5(dir.path() / "frames.h5");
+  }
+  expect_all_ranks_passed();
+}
+
+// A file whose /mesh/tets an earlier build wrote in int64 resumes, and the
+// rebuilt index names that width (an index saying 4 would misread them).
+TEST(FrameWriter, ResumingAFileWithInt64TetsKeepsTheirWidthInTheIndex) {
+  TestDirectory dir("resume_int64");
+  const int size = world_size();
+  const OwnedPart part = owned_part([size](global_index_t vertex) { return vertex % size; },
+                                    [size](global_index_t tet) { return tet % size; });
+  {
+    FrameWriter writer(MPI_COMM_WORLD, dir.path().string(), part.layout());
+    for (int frame : kFrames) part.write(writer, frame);
+  }
+  if (world_rank() == 0) {  // /mesh/tets rewritten as int64, the same ids
+    const fs::path h5 = dir.path() / "frames.h5";
+    const auto ids = [&] {
+      const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+      auto read = read_dataset<global_index_t>(file, "/mesh/tets", H5T_NATIVE_INT64, 4 * kNumTets);
+      H5Fclose(file);
+      return read;
+    }();
+    const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(H5Ldelete(file, "/mesh/tets", H5P_DEFAULT), 0);
+    const hsize_t dims[2] = {kNumTets, 4};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t set =
+        H5Dcreate2(file, "/mesh/tets", H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    EXPECT_GE(H5Dwrite(set, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, ids.data()), 0);
+    H5Dclose(set);
+    H5Sclose(space);
+    H5Fclose(file);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  {
+    FrameWriter resumed(MPI_COMM_WORLD, dir.path().string(), part.layout(), kFrames[1]);
+    if (world_rank() == 0) check_xdmf(dir.path() / "frames.xdmf", 2, 8);
+    part.write(resumed, kFrames[2]);
+  }
+  if (world_rank() == 0) {
+    check_xdmf(dir.path() / "frames.xdmf", kFrames.size(), 8);
+    check_h5(dir.path() / "frames.h5", H5T_STD_I64LE);
   }
   expect_all_ranks_passed();
 }
