@@ -176,6 +176,7 @@ void ContactHalo<Real>::rebuild(const Real* q, double reach, const std::vector<R
         {contact_of_local[tri[0]], contact_of_local[tri[1]], contact_of_local[tri[2]]});
   for (const GhostTriangle& t : triangles_in.records)
     triangles_.push_back({index_of.at(t.v[0]), index_of.at(t.v[1]), index_of.at(t.v[2])});
+  if (triangles_ != derived_triangles_ || global_id_ != derived_ids_) derive_primitives();
 
   positions_.assign(3 * global_id_.size(), Real(0));
   carried_.assign(global_id_.size(), Real(0));
@@ -246,6 +247,31 @@ void ContactHalo<Real>::gather(const Real* values, std::vector<Real>& out) const
       if (c >= 0)
         for (int i = 0; i < 3; ++i) out[3 * c + i] = in[s][3 * k + i];
     }
+}
+
+template <class Real>
+void ContactHalo<Real>::derive_primitives() {
+  // Edges sorted with their global ids beside them: the comparisons then
+  // read no other array.
+  std::vector<char> on_triangle(global_id_.size(), 0);
+  std::vector<std::pair<std::array<global_index_t, 2>, std::array<index_t, 2>>> keyed;
+  keyed.reserve(3 * triangles_.size());
+  for (const auto& t : triangles_)
+    for (int k = 0; k < 3; ++k) {
+      on_triangle[t[k]] = 1;
+      std::array<index_t, 2> e{t[k], t[(k + 1) % 3]};
+      if (global_id_[e[1]] < global_id_[e[0]]) std::swap(e[0], e[1]);
+      keyed.push_back({{global_id_[e[0]], global_id_[e[1]]}, e});
+    }
+  triangle_vertices_.clear();
+  for (std::size_t c = 0; c < on_triangle.size(); ++c)
+    if (on_triangle[c]) triangle_vertices_.push_back(static_cast<index_t>(c));
+  std::sort(keyed.begin(), keyed.end());
+  edges_.clear();
+  for (std::size_t i = 0; i < keyed.size(); ++i)
+    if (i == 0 || keyed[i].first != keyed[i - 1].first) edges_.push_back(keyed[i].second);
+  derived_triangles_ = triangles_;
+  derived_ids_ = global_id_;
 }
 
 template class ContactHalo<double>;

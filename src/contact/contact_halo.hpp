@@ -61,6 +61,11 @@ class ContactHalo {
   // Surface triangles (contact vertex indices, counter-clockwise seen from
   // outside): this rank's, then the halo's.
   const std::vector<std::array<index_t, 3>>& triangles() const { return triangles_; }
+  // The triangles' vertices (ascending) and their edges, each once with the
+  // lesser global id first, in global id order: what the pair search
+  // queries. Derived again only where a rebuild changed the triangles.
+  const std::vector<index_t>& triangle_vertices() const { return triangle_vertices_; }
+  const std::vector<std::array<index_t, 2>>& edges() const { return edges_; }
   // xyz per contact vertex, as of the last rebuild or update_ghosts.
   const std::vector<Real>& positions() const { return positions_; }
   const std::vector<Real>& carried() const { return carried_; }
@@ -77,7 +82,15 @@ class ContactHalo {
   std::vector<index_t> local_vertex_;
   std::vector<global_index_t> global_id_;
   std::vector<int> body_;
+  // triangle_vertices_ and edges_ from triangles_ and global_id_.
+  void derive_primitives();
+
   std::vector<std::array<index_t, 3>> triangles_;
+  std::vector<index_t> triangle_vertices_;
+  std::vector<std::array<index_t, 2>> edges_;
+  // What the primitives were derived from, to skip a rebuild that kept them.
+  std::vector<std::array<index_t, 3>> derived_triangles_;
+  std::vector<global_index_t> derived_ids_;
   std::vector<Real> positions_;
   std::vector<Real> carried_;
   // Per destination: local vertices whose positions it gets; per source: the

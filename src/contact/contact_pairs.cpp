@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "common/error.hpp"
@@ -35,21 +36,24 @@ Aabb bounds(const ContactHalo<Real>& halo, const std::vector<Real>* to, const in
 
 // Boxes hashed body by body: a query asks only the bodies it may pair with
 // (without contact.self, not its own, whose surface is most of what lies
-// near its vertices) and whose box it meets.
+// near its vertices) and whose box it meets. A body's hash is built at the
+// first query that reaches it: bodies far from every other (most of a
+// scene's, most of the time) cost only their box.
 class HashByBody {
  public:
-  HashByBody(const std::vector<Aabb>& boxes, const std::vector<int>& body, double cell_size) {
+  HashByBody(const std::vector<Aabb>& boxes, const std::vector<int>& body, double cell_size)
+      : cell_size_(cell_size) {
     const int num_bodies = body.empty() ? 0 : *std::max_element(body.begin(), body.end()) + 1;
     ids_.resize(num_bodies);
     bounds_.resize(num_bodies);
-    std::vector<std::vector<Aabb>> boxes_of(num_bodies);
+    boxes_of_.resize(num_bodies);
+    hashes_.resize(num_bodies);
     for (std::size_t i = 0; i < boxes.size(); ++i) {
       ids_[body[i]].push_back(static_cast<index_t>(i));
-      boxes_of[body[i]].push_back(boxes[i]);
+      boxes_of_[body[i]].push_back(boxes[i]);
       bounds_[body[i]].add(boxes[i].lo.data());
       bounds_[body[i]].add(boxes[i].hi.data());
     }
-    for (int b = 0; b < num_bodies; ++b) hashes_.emplace_back(boxes_of[b], cell_size);
   }
 
   // Ids of the boxes overlapping `query` among the bodies admit(b) accepts,
@@ -59,15 +63,18 @@ class HashByBody {
     out.clear();
     for (std::size_t b = 0; b < hashes_.size(); ++b) {
       if (ids_[b].empty() || !admit(static_cast<int>(b)) || !bounds_[b].overlaps(query)) continue;
-      hashes_[b].candidates(query, found_);
+      if (!hashes_[b]) hashes_[b].emplace(boxes_of_[b], cell_size_);
+      hashes_[b]->candidates(query, found_);
       for (index_t k : found_) out.push_back(ids_[b][k]);
     }
   }
 
  private:
+  double cell_size_;
   std::vector<std::vector<index_t>> ids_;  // per body: its boxes' ids
   std::vector<Aabb> bounds_;               // per body: the box of its boxes
-  std::vector<SpatialHash> hashes_;
+  std::vector<std::vector<Aabb>> boxes_of_;
+  mutable std::vector<std::optional<SpatialHash>> hashes_;  // built when first asked
   mutable std::vector<index_t> found_;
 };
 
@@ -90,7 +97,6 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
   auto touches_local = [&](const std::array<index_t, 4>& v) {
     return std::any_of(v.begin(), v.end(), [&](index_t c) { return c < local; });
   };
-  auto by_id = [&](index_t a, index_t b) { return gid[a] < gid[b]; };
   // Along the paths a pair's gap closes by at most the longest move of one
   // side plus the longest of the other whatever the fractions (a point of a
   // primitive moves by a convex combination of its vertices' moves, all
@@ -137,24 +143,8 @@ ContactPairs find_contact_pairs(const ContactHalo<Real>& halo, double reach, boo
     return std::sqrt(static_cast<double>(d2)) - closing < reach;
   };
 
-  // Vertices of the triangles, and their edges each once, lesser id first.
-  std::vector<index_t> vertices;
-  std::vector<std::array<index_t, 2>> edges;
-  for (const auto& t : triangles)
-    for (int k = 0; k < 3; ++k) {
-      vertices.push_back(t[k]);
-      std::array<index_t, 2> e{t[k], t[(k + 1) % 3]};
-      if (by_id(e[1], e[0])) std::swap(e[0], e[1]);
-      edges.push_back(e);
-    }
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  const auto edge_key = [&](const std::array<index_t, 2>& e) {
-    return std::array<global_index_t, 2>{gid[e[0]], gid[e[1]]};
-  };
-  std::sort(edges.begin(), edges.end(),
-            [&](const auto& a, const auto& b) { return edge_key(a) < edge_key(b); });
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  const std::vector<index_t>& vertices = halo.triangle_vertices();
+  const std::vector<std::array<index_t, 2>>& edges = halo.edges();
 
   ContactPairs pairs;
   std::vector<index_t> found;
