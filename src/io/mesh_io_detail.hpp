@@ -48,6 +48,7 @@ struct ReadResult {
 ReadResult read_gmsh(const std::string& path);
 ReadResult read_medit(const std::string& path);
 ReadResult read_tetgen(const std::string& node_path, const std::string& ele_path);
+ReadResult read_vtu(const std::string& path);
 
 // The rules of validate_mesh, with messages naming elements as `origin` says.
 // Sets the report's counts and appends its warnings.

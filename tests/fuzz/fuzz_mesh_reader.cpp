@@ -3,9 +3,10 @@
 // readers' promises is a finding.
 //
 // Input: byte 0 picks the format and how read_mesh is called, the rest is
-// the file text. Byte 0 % 3: 0 Gmsh .msh, 1 MEDIT .mesh, 2 TetGen, whose
+// the file text. Byte 0 % 4: 0 Gmsh .msh, 1 MEDIT .mesh, 2 TetGen, whose
 // text is split at the first "@@" into the .node and the .ele (no "@@": an
-// empty .ele). So a corpus file starts with the digit '0', '1' or '2'.
+// empty .ele), 3 VTK .vtu. So a corpus file starts with the digit '0', '1',
+// '2' or '3'.
 // Higher bits vary what does not change the parse: which TetGen name is
 // passed, an upper-case extension, with or without a report.
 #include <unistd.h>
@@ -107,13 +108,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   const fs::path base = scratch_dir() / "input";
   std::string path;
-  switch (selector % 3) {
+  switch (selector % 4) {
     case 0:
       path = base.string() + (upper_case ? ".MSH" : ".msh");
       write_file(path, text);
       break;
     case 1:
       path = base.string() + (upper_case ? ".MESH" : ".mesh");
+      write_file(path, text);
+      break;
+    case 3:
+      path = base.string() + (upper_case ? ".VTU" : ".vtu");
       write_file(path, text);
       break;
     default: {

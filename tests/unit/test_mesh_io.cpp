@@ -253,6 +253,89 @@ TEST_F(MeshIoTest, ReadsMeditWithCommentsAnyCaseAndSkippedSections) {
   EXPECT_TRUE(report.warnings.empty());
 }
 
+// The two-tet mesh as a .vtu: values wrapped across lines, a triangle
+// (type 5, skipped silently) and a hexahedron (type 12, skipped with a
+// warning) among the cells, point and cell data beside them. Line 11 holds
+// the connectivity's first tet.
+std::vector<std::string> vtu_lines() {
+  return {"<?xml version=\"1.0\"?>",
+          "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">",
+          "  <UnstructuredGrid>",
+          "    <Piece NumberOfPoints=\"5\" NumberOfCells=\"4\">",
+          "      <PointData><DataArray type=\"Float32\" Name=\"t\" format=\"ascii\">1 2 3 4 5"
+          "</DataArray></PointData>",
+          "      <Points>",
+          "        <DataArray type=\"Float64\" NumberOfComponents='3' format=\"ascii\">",
+          "          0 0 0 1 0 0 0",
+          "          1 0 0 0 1 1 1 1",
+          "        </DataArray></Points><Cells>",
+          "        <DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">0 1 2 3",
+          "          0 1 2  0 1 2 3 0 1 2 4",
+          "          1 2 3 4</DataArray>",
+          "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10 5 12 10"
+          "</DataArray>",
+          "        <DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">4 7 15 19"
+          "</DataArray>",
+          "      </Cells>",
+          "      <CellData><DataArray type=\"Int32\" Name=\"id\" format=\"ascii\">1 2 3 4"
+          "</DataArray></CellData>",
+          "    </Piece>",
+          "  </UnstructuredGrid>",
+          "</VTKFile>"};
+}
+
+TEST_F(MeshIoTest, ReadsVtuWithWrappedValuesSkippedCellsAndOtherArrays) {
+  MeshReadReport report;
+  const Mesh mesh = read_mesh(write("two.vtu", join(vtu_lines())), &report);
+  EXPECT_EQ(mesh.positions, kTwoTetPositions);
+  EXPECT_EQ(mesh.tets, kTwoTets);
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_CONTAINS(report.warnings[0], "two.vtu: skipped volume cells of VTK type 12 (1)");
+}
+
+TEST_F(MeshIoTest, BadVtuIsAnErrorNamingTheLine) {
+  std::vector<std::string> lines = vtu_lines();
+  lines[6] = "        <DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"binary\">";
+  write("binary.vtu", join(lines));
+  EXPECT_CONTAINS(read_error("binary.vtu", 7), "format \"binary\"; only format=\"ascii\"");
+
+  lines = vtu_lines();
+  lines[12] = "          1 2 3 5</DataArray>";  // the second tet's last point is out of range
+  write("range.vtu", join(lines));
+  EXPECT_CONTAINS(read_error("range.vtu", 13),
+                  "tet (cell 3) refers to point 5, but the file has 5");
+
+  lines = vtu_lines();
+  lines[3] = "    <Piece NumberOfPoints=\"6\" NumberOfCells=\"4\">";
+  write("points.vtu", join(lines));
+  EXPECT_CONTAINS(read_error("points.vtu", 10), "the Points hold 5 whole points");
+
+  lines = vtu_lines();
+  lines[14] =
+      "        <DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">4 7 15 18"
+      "</DataArray>";
+  write("offsets.vtu", join(lines));
+  EXPECT_CONTAINS(read_error("offsets.vtu", 11), "cell 3 is a tet (type 10) with 3 points");
+
+  lines = vtu_lines();
+  lines[13] =
+      "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">5 5 12 12"
+      "</DataArray>";
+  write("no_tets.vtu", join(lines));
+  EXPECT_CONTAINS(read_error("no_tets.vtu", 10),
+                  "no tets (VTK type 10); skipped volume cells of VTK type 12 (2)");
+
+  lines = vtu_lines();
+  lines.insert(lines.end() - 2, "    <Piece NumberOfPoints=\"0\" NumberOfCells=\"0\"></Piece>");
+  write("pieces.vtu", join(lines));
+  EXPECT_CONTAINS(read_error("pieces.vtu", 4), "several Pieces");
+
+  lines = vtu_lines();
+  lines[1] = "<VTKFile type=\"PolyData\" version=\"0.1\">";
+  write("poly.vtu", join(lines));
+  EXPECT_CONTAINS(read_error("poly.vtu", 2), "only UnstructuredGrid");
+}
+
 TEST_F(MeshIoTest, ReadsTetgenByEitherNameOrBaseWithAttributesAndMarkers) {
   write("pair.node",
         join({"# nodes", "5 3 1 1", "1 0 0 0 7.5 1", "2 1 0 0 7.5 1", "3 0 1 0 7.5 0  # interior",
@@ -473,14 +556,15 @@ TEST_F(MeshIoTest, MissingMeditEndIsAnError) {
 }
 
 TEST_F(MeshIoTest, UnknownExtensionListsTheSupportedOnes) {
-  write("raptor.vtu", "<VTKFile/>\n");
+  write("raptor.vtk", "# vtk DataFile Version 2.0\n");
   try {
-    read_mesh(path("raptor.vtu"));
+    read_mesh(path("raptor.vtk"));
     ADD_FAILURE() << "no InputError";
   } catch (const InputError& error) {
-    EXPECT_CONTAINS(error.what(), "raptor.vtu");
+    EXPECT_CONTAINS(error.what(), "raptor.vtk");
     EXPECT_CONTAINS(error.what(), ".msh");
     EXPECT_CONTAINS(error.what(), ".mesh");
+    EXPECT_CONTAINS(error.what(), ".vtu");
     EXPECT_CONTAINS(error.what(), ".node/.ele");
   }
 }
@@ -558,6 +642,19 @@ TEST(RealMeshes, ArmadilloGmsh41) {
 }
 TEST(RealMeshes, BunnyGmsh41) { check_real_mesh({"bunny_ipc.msh", 4670, 19379, 6.0104}); }
 TEST(RealMeshes, BunnyGmsh22) { check_real_mesh({"bunny_ipc_msh22.msh", 4670, 19379, 6.0104}); }
+
+// The README's raptor: 2 vertices no tet uses, kept and counted.
+TEST(RealMeshes, RaptorVtu) {
+  const std::string file = std::string(DESCENT_SHARED_MESHES) + "/raptorTetra_19409.vtu";
+  if (!fs::exists(file)) GTEST_SKIP() << file << " is absent (real meshes are not shipped)";
+  MeshReadReport report;
+  const Mesh mesh = read_mesh(file, &report);
+  EXPECT_EQ(mesh.num_vertices(), 5992);
+  EXPECT_EQ(mesh.num_tets(), 19409);
+  EXPECT_EQ(report.reoriented_tets, 0);
+  EXPECT_EQ(report.unreferenced_vertices, 2);
+  EXPECT_NEAR(total_volume(mesh), 27.489, 1e-4 * 27.489);
+}
 
 TEST(RealMeshes, BunnyIsTheSameInGmsh22And41) {
   const std::string dir = DESCENT_SHARED_MESHES;
