@@ -7,7 +7,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "common/error.hpp"
@@ -53,6 +55,20 @@ ReadResult read_vtu(const std::string& path);
 // The rules of validate_mesh, with messages naming elements as `origin` says.
 // Sets the report's counts and appends its warnings.
 void validate(Mesh& mesh, const MeshOrigin& origin, MeshReadReport* report);
+
+// What a reader skipped, for its warning: "skipped volume elements of Gmsh
+// type 11 (120), 5 (3); only 4-node tets (type 4) are read", from the count
+// of each skipped type.
+inline std::string skipped_volume_note(const std::map<std::int64_t, std::int64_t>& skipped,
+                                       std::string_view kinds, std::string_view read) {
+  std::string note = detail::concat("skipped volume ", kinds, " type");
+  const char* separator = " ";
+  for (const auto& [type, how_many] : skipped) {
+    note += detail::concat(separator, type, " (", how_many, ")");
+    separator = ", ";
+  }
+  return detail::concat(note, "; only ", read, " are read");
+}
 
 // The extension of a path in lower case, with its dot: ".msh"; empty if none.
 inline std::string lowercase_extension(const std::string& path) {

@@ -275,15 +275,8 @@ class GmshReader {
     if (is_other_volume_type(type)) skipped_volume_types_[type] += how_many;
   }
 
-  // "skipped volume elements of Gmsh type 11 (120), 5 (3); ...".
   std::string skipped_note() const {
-    std::string note = "skipped volume elements of Gmsh type";
-    const char* separator = " ";
-    for (const auto& [type, how_many] : skipped_volume_types_) {
-      note += detail::concat(separator, type, " (", how_many, ")");
-      separator = ", ";
-    }
-    return note + "; only 4-node tets (type 4) are read";
+    return skipped_volume_note(skipped_volume_types_, "elements of Gmsh", "4-node tets (type 4)");
   }
 
   // The line after a section name holds its header.

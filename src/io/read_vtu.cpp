@@ -320,15 +320,8 @@ class VtuReader {
                                           " entries the offsets reach"));
   }
 
-  // "skipped volume cells of VTK type 12 (120), 13 (3); ...".
   std::string skipped_note() const {
-    std::string note = "skipped volume cells of VTK type";
-    const char* separator = " ";
-    for (const auto& [type, how_many] : skipped_) {
-      note += detail::concat(separator, type, " (", how_many, ")");
-      separator = ", ";
-    }
-    return note + "; only linear tets (type 10) are read";
+    return skipped_volume_note(skipped_, "cells of VTK", "linear tets (type 10)");
   }
 
   std::string path_;
