@@ -19,6 +19,7 @@ ReadResult read_by_format(const std::string& path) {
   if (extension == ".msh") return mesh_io_detail::read_gmsh(path);
   if (extension == ".mesh") return mesh_io_detail::read_medit(path);
   if (extension == ".vtu") return mesh_io_detail::read_vtu(path);
+  if (extension == ".vtk") return mesh_io_detail::read_vtk(path);
   const std::string base = path.substr(0, path.size() - extension.size());
   if (extension == ".node") return mesh_io_detail::read_tetgen(path, base + ".ele");
   if (extension == ".ele") return mesh_io_detail::read_tetgen(base + ".node", path);
@@ -30,7 +31,8 @@ ReadResult read_by_format(const std::string& path) {
   throw InputError(detail::concat(
       path, ": unknown mesh format '", extension.empty() ? "(no extension)" : extension,
       "'; supported are .msh (Gmsh 2.2 and 4.1, ASCII), .mesh (MEDIT, ASCII), .vtu (VTK "
-      "UnstructuredGrid, ascii arrays) and .node/.ele (TetGen, or the base name of the pair)"));
+      "UnstructuredGrid, ascii arrays), .vtk (legacy VTK, ASCII) and .node/.ele (TetGen, or the "
+      "base name of the pair)"));
 }
 
 }  // namespace

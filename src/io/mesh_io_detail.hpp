@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <string>
@@ -51,6 +52,19 @@ ReadResult read_gmsh(const std::string& path);
 ReadResult read_medit(const std::string& path);
 ReadResult read_tetgen(const std::string& node_path, const std::string& ele_path);
 ReadResult read_vtu(const std::string& path);
+ReadResult read_vtk(const std::string& path);
+
+// VTK's cell type of the linear tet (VTK_TETRA), in .vtu and legacy .vtk.
+constexpr std::int64_t kVtkTetraType = 10;
+
+// VTK volume cell types other than the linear tet (voxel, hexahedron,
+// wedge, pyramid, pentagonal and hexagonal prisms, the quadratic and
+// Lagrange families, polyhedron): skipped with a warning, not silently.
+inline bool is_other_vtk_volume_type(std::int64_t type) {
+  constexpr std::int64_t kTypes[] = {11, 12, 13, 14, 15, 16, 24, 25, 26, 27,
+                                     29, 32, 33, 42, 71, 72, 73, 74, 79};
+  return std::find(std::begin(kTypes), std::end(kTypes), type) != std::end(kTypes);
+}
 
 // The rules of validate_mesh, with messages naming elements as `origin` says.
 // Sets the report's counts and appends its warnings.

@@ -21,38 +21,6 @@ namespace descent::mesh_io_detail {
 
 namespace {
 
-constexpr std::int64_t kVtkTetra = 10;
-
-// Volume cell types other than the linear tet (voxel, hexahedron, wedge,
-// pyramid, pentagonal and hexagonal prisms, the quadratic and Lagrange
-// families, polyhedron): skipped with a warning, not silently.
-bool is_other_volume_type(std::int64_t type) {
-  switch (type) {
-    case 11:
-    case 12:
-    case 13:
-    case 14:
-    case 15:
-    case 16:  // NOLINT
-    case 24:
-    case 25:
-    case 26:
-    case 27:
-    case 29:
-    case 32:
-    case 33:  // NOLINT
-    case 42:
-    case 71:
-    case 72:
-    case 73:
-    case 74:
-    case 79:  // NOLINT
-      return true;
-    default:
-      return false;
-  }
-}
-
 class VtuReader {
  public:
   explicit VtuReader(const std::string& path) : path_(path), text_(read_whole_file(path)) {}
@@ -290,11 +258,11 @@ class VtuReader {
       if (size < 0)
         fail_at(content.begin, detail::concat("offsets decrease at cell ", cell, " (",
                                               offsets[cell], " after ", read, ")"));
-      const bool tet = types[cell] == kVtkTetra;
+      const bool tet = types[cell] == kVtkTetraType;
       if (tet && size != 4)
         fail_at(content.begin,
                 detail::concat("cell ", cell, " is a tet (type 10) with ", size, " points"));
-      if (!tet && is_other_volume_type(types[cell])) ++skipped_[types[cell]];
+      if (!tet && is_other_vtk_volume_type(types[cell])) ++skipped_[types[cell]];
       std::int64_t line = 0;
       for (std::int64_t k = 0; k < size; ++k) {
         if (!numbers.next())

@@ -5,8 +5,8 @@
 // Input: byte 0 picks the format and how read_mesh is called, the rest is
 // the file text. Byte 0 % 4: 0 Gmsh .msh, 1 MEDIT .mesh, 2 TetGen, whose
 // text is split at the first "@@" into the .node and the .ele (no "@@": an
-// empty .ele), 3 VTK .vtu. So a corpus file starts with the digit '0', '1',
-// '2' or '3'.
+// empty .ele), 3 VTK: .vtu, or legacy .vtk where (byte 0 / 72) is odd. So a
+// corpus file starts with the digit '0', '1', '2' or '3', or 'K' for .vtk.
 // Higher bits vary what does not change the parse: which TetGen name is
 // passed, an upper-case extension, with or without a report.
 #include <unistd.h>
@@ -118,7 +118,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       write_file(path, text);
       break;
     case 3:
-      path = base.string() + (upper_case ? ".VTU" : ".vtu");
+      if ((selector / 72) % 2 == 1)
+        path = base.string() + (upper_case ? ".VTK" : ".vtk");
+      else
+        path = base.string() + (upper_case ? ".VTU" : ".vtu");
       write_file(path, text);
       break;
     default: {

@@ -336,6 +336,105 @@ TEST_F(MeshIoTest, BadVtuIsAnErrorNamingTheLine) {
   EXPECT_CONTAINS(read_error("poly.vtu", 2), "only UnstructuredGrid");
 }
 
+// The two-tet mesh as a legacy .vtk before version 5: an empty title, a
+// FIELD block before the points, values wrapped across lines, a triangle
+// and a hexahedron among the cells, point data after them. Line 12 holds
+// the first tet.
+std::vector<std::string> vtk_lines() {
+  return {"# vtk DataFile Version 3.0",
+          "",
+          "ASCII",
+          "DATASET UNSTRUCTURED_GRID",
+          "FIELD FieldData 2",
+          "TIME 1 1 double",
+          "0.5",
+          "CYCLE 1 2 int 7 8",
+          "POINTS 5 float",
+          "0 0 0 1 0 0 0",
+          "1 0 0 0 1 1 1 1",
+          "CELLS 4 23",
+          "4 0 1 2 3",
+          "3 0 1 2  8 0 1 2 3 0 1 2 4",
+          "4 1 2 3 4",
+          "CELL_TYPES 4",
+          "10 5 12",
+          "10",
+          "POINT_DATA 5",
+          "SCALARS t float 1",
+          "LOOKUP_TABLE default",
+          "1 2 3 4 5"};
+}
+
+// The same as a legacy .vtk of version 5.1 (offsets and connectivity, a
+// METADATA block).
+std::vector<std::string> vtk51_lines() {
+  return {"# vtk DataFile Version 5.1",
+          "two tets",
+          "ASCII",
+          "DATASET UNSTRUCTURED_GRID",
+          "POINTS 5 double",
+          "0 0 0 1 0 0 0 1 0 0 0 1 1 1 1",
+          "METADATA",
+          "INFORMATION 0",
+          "",
+          "CELLS 3 8",
+          "OFFSETS vtktypeint64",
+          "0 4 8",
+          "CONNECTIVITY vtktypeint64",
+          "0 1 2 3 1 2 3 4",
+          "CELL_TYPES 2",
+          "10 10"};
+}
+
+TEST_F(MeshIoTest, ReadsLegacyVtkOfBothLayouts) {
+  MeshReadReport report;
+  const Mesh mesh = read_mesh(write("two.vtk", join(vtk_lines())), &report);
+  EXPECT_EQ(mesh.positions, kTwoTetPositions);
+  EXPECT_EQ(mesh.tets, kTwoTets);
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_CONTAINS(report.warnings[0], "two.vtk: skipped volume cells of VTK type 12 (1)");
+
+  const Mesh v51 = read_mesh(write("two51.vtk", join(vtk51_lines())));
+  EXPECT_EQ(v51.positions, kTwoTetPositions);
+  EXPECT_EQ(v51.tets, kTwoTets);
+}
+
+TEST_F(MeshIoTest, BadLegacyVtkIsAnErrorNamingTheLine) {
+  std::vector<std::string> lines = vtk_lines();
+  lines[2] = "BINARY";
+  write("binary.vtk", join(lines));
+  EXPECT_CONTAINS(read_error("binary.vtk", 3), "BINARY files are not read");
+
+  lines = vtk_lines();
+  lines[14] = "4 1 2 3 5";
+  write("range.vtk", join(lines));
+  EXPECT_CONTAINS(read_error("range.vtk", 15),
+                  "tet (cell 3) refers to point 5, but the file has 5");
+
+  lines = vtk_lines();
+  lines[11] = "CELLS 4 24";
+  write("size.vtk", join(lines));
+  EXPECT_CONTAINS(read_error("size.vtk", 15), "the cells hold 23 numbers; CELLS declares 24");
+
+  lines = vtk_lines();
+  lines[3] = "DATASET POLYDATA";
+  write("poly.vtk", join(lines));
+  EXPECT_CONTAINS(read_error("poly.vtk", 4), "only UNSTRUCTURED_GRID");
+
+  lines = vtk_lines();
+  lines.resize(13);
+  write("short.vtk", join(lines));
+  EXPECT_CONTAINS(read_error("short.vtk", 13), "truncated file");
+
+  lines = vtk51_lines();
+  lines[11] = "0 4 9";
+  write("offsets.vtk", join(lines));
+  EXPECT_CONTAINS(read_error("offsets.vtk", 14), "OFFSETS must run from 0");
+
+  write("header.vtk", "vtk output\n\nASCII\n");
+  EXPECT_CONTAINS(read_error("header.vtk", 1), "not a legacy VTK file");
+}
+
 TEST_F(MeshIoTest, ReadsTetgenByEitherNameOrBaseWithAttributesAndMarkers) {
   write("pair.node",
         join({"# nodes", "5 3 1 1", "1 0 0 0 7.5 1", "2 1 0 0 7.5 1", "3 0 1 0 7.5 0  # interior",
@@ -556,12 +655,13 @@ TEST_F(MeshIoTest, MissingMeditEndIsAnError) {
 }
 
 TEST_F(MeshIoTest, UnknownExtensionListsTheSupportedOnes) {
-  write("raptor.vtk", "# vtk DataFile Version 2.0\n");
+  write("raptor.stl", "solid raptor\n");
   try {
-    read_mesh(path("raptor.vtk"));
+    read_mesh(path("raptor.stl"));
     ADD_FAILURE() << "no InputError";
   } catch (const InputError& error) {
-    EXPECT_CONTAINS(error.what(), "raptor.vtk");
+    EXPECT_CONTAINS(error.what(), "raptor.stl");
+    EXPECT_CONTAINS(error.what(), ".vtk");
     EXPECT_CONTAINS(error.what(), ".msh");
     EXPECT_CONTAINS(error.what(), ".mesh");
     EXPECT_CONTAINS(error.what(), ".vtu");
