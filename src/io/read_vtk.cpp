@@ -81,19 +81,16 @@ class VtkReader {
     return text;
   }
 
-  // The next token, on this line or a later one.
-  std::string_view word(std::string_view what) {
-    while (!scanner_.has_token())
-      if (!scanner_.next_line())
-        scanner_.fail(
-            detail::concat("the file ended where ", what, " was expected (truncated file)"));
-    return scanner_.token(what);
-  }
+  // Moves to the next token, on this line or a later one.
   void word_is_next(std::string_view what) {
     while (!scanner_.has_token())
       if (!scanner_.next_line())
         scanner_.fail(
             detail::concat("the file ended where ", what, " was expected (truncated file)"));
+  }
+  std::string_view word(std::string_view what) {
+    word_is_next(what);
+    return scanner_.token(what);
   }
   std::int64_t integer(std::string_view what) {
     word_is_next(what);
