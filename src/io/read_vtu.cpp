@@ -21,6 +21,8 @@ namespace descent::mesh_io_detail {
 
 namespace {
 
+bool is_blank(char c) { return c == ' ' || c == '\n' || c == '\t' || c == '\r'; }
+
 class VtuReader {
  public:
   explicit VtuReader(const std::string& path) : path_(path), text_(read_whole_file(path)) {}
@@ -81,8 +83,7 @@ class VtuReader {
     for (std::size_t at = text_.find(opening, from); at != std::string::npos && at < until;
          at = text_.find(opening, at + 1)) {
       const char next = at + opening.size() < text_.size() ? text_[at + opening.size()] : '\0';
-      if (next == ' ' || next == '>' || next == '/' || next == '\n' || next == '\t' || next == '\r')
-        return at;
+      if (is_blank(next) || next == '>' || next == '/') return at;
     }
     return std::string_view::npos;
   }
@@ -117,8 +118,7 @@ class VtuReader {
   static std::string_view attribute(const Tag& tag, std::string_view name) {
     const std::string_view a = tag.attributes;
     for (std::size_t at = a.find(name); at != std::string_view::npos; at = a.find(name, at + 1)) {
-      const bool starts = at == 0 || a[at - 1] == ' ' || a[at - 1] == '\n' || a[at - 1] == '\t' ||
-                          a[at - 1] == '\r';
+      const bool starts = at == 0 || is_blank(a[at - 1]);
       std::size_t k = at + name.size();
       while (k < a.size() && a[k] == ' ') ++k;
       if (!starts || k >= a.size() || a[k] != '=') continue;
@@ -198,7 +198,6 @@ class VtuReader {
     std::int64_t line() const { return line_; }
 
    private:
-    static bool is_blank(char c) { return c == ' ' || c == '\n' || c == '\t' || c == '\r'; }
     const VtuReader& reader_;
     std::size_t at_, end_;
     std::int64_t line_;
