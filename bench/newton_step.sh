@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # One Newton step to |g| <= 1e-10 |g0| (the first frame of the scene, from
-# rest), per Newton linear solver: cg (our Jacobi CG), ldlt (rank 0's sparse
+# rest), per Newton linear solver: cg (our Jacobi CG), cg_multilevel (our CG
+# preconditioned by the multilevel V-cycle), ldlt (rank 0's sparse
 # LDL^T), petsc (CG + GAMG), petsc with -pc_type hypre (CG + BoomerAMG at
 # hypre's defaults) and hypre_tuned (BoomerAMG with the usual 3D settings:
 # strong threshold 0.5, HMIS coarsening, ext+i interpolation, P_max 4, one
@@ -62,6 +63,8 @@ for mesh in $meshes; do
         hypre_tuned)
           keys+=("solver.newton_solver='petsc'"
                  "solver.petsc_options='-pc_type hypre -pc_hypre_boomeramg_strong_threshold 0.5 -pc_hypre_boomeramg_coarsen_type HMIS -pc_hypre_boomeramg_interp_type ext+i -pc_hypre_boomeramg_P_max 4 -pc_hypre_boomeramg_agg_nl 1'") ;;
+        cg) keys+=("solver.newton_solver='cg'" "solver.preconditioner='jacobi'") ;;
+        cg_multilevel) keys+=("solver.newton_solver='cg'" "solver.preconditioner='multilevel'") ;;
         *) keys+=("solver.newton_solver='$solver'") ;;
       esac
       n=$repeats
@@ -72,7 +75,7 @@ for mesh in $meshes; do
       echo "$(date -u +%T) $mesh np=$np $solver x$n" | tee -a "$log"
       if line=$(timeout "$t" mpiexec -n "$np" --oversubscribe "$bench" "$scene" "$n" \
                   "${keys[@]}" 2>>"$log" | tail -1) && [[ -n $line ]]; then
-        line=${line/,petsc,/,${solver},}
+        line=$(awk -F, -v s="$solver" 'BEGIN { OFS = "," } { $2 = s; print }' <<<"$line")
         echo "$mesh,$line" | tee -a "$csv" "$log"
       else
         echo "$mesh,$np,$solver,timeout (${t} s) or failure" | tee -a "$csv" "$log"

@@ -246,10 +246,13 @@ struct SolverSpec {
   // "multilevel", "petsc_gamg" (builds with PETSc) or "auto" (the default):
   // multilevel for chebyshev with its automatic parameters (faster to every
   // accuracy on the main job and the study scenes: bench/results/multilevel)
-  // on the CPU, for a body with inertia or held dofs; jacobi for every other
-  // method (the papers' forms), for the fixed parameters (tuned to Jacobi's
-  // spectrum), on a device, and for a quasi-static body nothing holds.
-  // preconditioner_of() resolves it by method (ChebyshevDescent the rest).
+  // on the CPU and for newton's CG (16-18x per Newton step on the helix:
+  // bench/results/newton_step), for a body with inertia or held dofs and
+  // without contact between bodies; jacobi for every other method (the
+  // papers' forms), for the fixed parameters (tuned to Jacobi's spectrum),
+  // on a device, and for a quasi-static body nothing holds.
+  // preconditioner_of() resolves it by method (multilevel_fits() and
+  // ChebyshevDescent the rest).
   std::string preconditioner = "auto";
   // Steps between rebuilds of a multilevel P^-1 at the step's start (1: every
   // step); a rollback always rebuilds it.
@@ -268,8 +271,9 @@ struct SolverSpec {
 // resolved for spec's method.
 inline std::string preconditioner_of(const SolverSpec& spec) {
   if (spec.preconditioner != "auto") return spec.preconditioner;
-  return spec.method == "chebyshev" && spec.chebyshev_parameters == "auto" ? "multilevel"
-                                                                           : "jacobi";
+  const bool chebyshev = spec.method == "chebyshev" && spec.chebyshev_parameters == "auto";
+  const bool newton_cg = spec.method == "newton" && spec.newton_solver == "cg";
+  return chebyshev || newton_cg ? "multilevel" : "jacobi";
 }
 
 struct OutputSpec {

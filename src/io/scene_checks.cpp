@@ -288,8 +288,8 @@ void check_contact(const SceneDocument& doc, const Scene& scene) {
   // solve: the direct and PETSc solvers assemble no contact terms); the
   // others do not yet. Between bodies they need
   // Jacobi's D (no other preconditioner knows the pairs), and so do obstacles' with the methods
-  // beyond chebyshev (only chebyshev's multilevel operator takes obstacles'
-  // terms in). As a projection pass after the solve contact takes any.
+  // beyond chebyshev and newton (below). As a projection pass after the
+  // solve contact takes any.
   if (contact.method != "energy") return;
   const bool between_bodies = scene.bodies.size() > 1 || contact.self;
   if (!between_bodies && scene.obstacles.empty()) return;
@@ -314,10 +314,16 @@ void check_contact(const SceneDocument& doc, const Scene& scene) {
                        scene.solver.newton_solver, "\" assembles no contact terms, and ", what,
                        " with contact.method = \"energy\" put a barrier in eps; use \"cg\""));
   // "auto" is Jacobi's D here: chebyshev leaves out its multilevel operator
-  // with pairs, and the other methods take D.
+  // with pairs, and the other methods take D. The multilevel operator takes
+  // the obstacles' blocks in at each refresh: with chebyshev, which scales
+  // P^-1 where the barrier stiffens between refreshes, and with newton,
+  // which refreshes it at each iteration's Hessian; the other methods keep
+  // one P^-1 through a step while the barrier stiffens.
   const std::string& preconditioner = scene.solver.preconditioner;
   const bool other = preconditioner == "multilevel" || preconditioner == "petsc_gamg";
-  if (other && (between_bodies || method != "chebyshev"))
+  const bool takes_obstacles =
+      method == "chebyshev" || (method == "newton" && preconditioner == "multilevel");
+  if (other && (between_bodies || !takes_obstacles))
     throw InputError(
         detail::concat(doc.where("solver.preconditioner"), ": solver.preconditioner = \"",
                        preconditioner, "\" knows nothing of the contact barrier of ", what,
@@ -393,11 +399,20 @@ void check_preconditioner(const SceneDocument& doc, const Scene& scene) {
   const std::string& method = solver.method;
   const bool preconditions = method == "chebyshev" || method == "jacobi_gd" ||
                              method == "nesterov" || method == "ncg" || method == "lbfgs" ||
-                             method == "linear_cg";
+                             method == "linear_cg" || method == "newton";
   if (!preconditions)
-    throw InputError(detail::concat(
-        doc.where("solver.preconditioner"), ": solver.preconditioner = \"", solver.preconditioner,
-        "\" preconditions chebyshev, jacobi_gd, nesterov, ncg, lbfgs and linear_cg, not ", method));
+    throw InputError(detail::concat(doc.where("solver.preconditioner"),
+                                    ": solver.preconditioner = \"", solver.preconditioner,
+                                    "\" preconditions chebyshev, jacobi_gd, nesterov, ncg, lbfgs, "
+                                    "linear_cg and newton's CG, not ",
+                                    method));
+  // Newton's direct and PETSc solvers bring their own (none; PETSc's PC).
+  if (method == "newton" && solver.newton_solver != "cg")
+    throw InputError(detail::concat(doc.where("solver.preconditioner"),
+                                    ": solver.preconditioner = \"", solver.preconditioner,
+                                    "\" preconditions newton's CG (solver.newton_solver = \"cg\"), "
+                                    "not solver.newton_solver = \"",
+                                    solver.newton_solver, "\""));
   if (method == "chebyshev" && solver.chebyshev_parameters == "fixed")
     throw InputError(detail::concat(
         doc.where("solver.preconditioner"), ": solver.preconditioner = \"", solver.preconditioner,

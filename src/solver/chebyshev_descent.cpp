@@ -10,6 +10,7 @@
 #include "common/splitmix.hpp"
 #include "solver/check_history.hpp"
 #include "solver/methods/chebyshev_phases.hpp"
+#include "solver/preconditioners/make_preconditioner.hpp"
 #include "solver/spectrum.hpp"
 #include "solver/step_control.hpp"
 
@@ -90,17 +91,10 @@ bool ChebyshevDescent<Real>::automatic_multilevel_fits() {
   // Not on a device: the multilevel preconditioner's device path has not run
   // on one yet (docs/multilevel.md).
   if (engine_->on_device()) return false;
-  // Not with contact between bodies: its pairs couple vertices the
-  // hierarchy's operators do not know (docs/contact.md).
-  if (problem_.body_contact()) return false;
-  // Not where its operator is singular: a quasi-static body that nothing
-  // holds, whose rigid motions cost nothing (an inverted tet or a random box
-  // recovering its rest shape: tests/mpi/test_recovery.cpp stalled with it).
-  // One collective: whether any rank holds a dof.
-  if (problem_.vertex_terms().inv_h2 > 0) return true;
-  const auto& fixed = problem_.fixed_axes();
-  const bool held = std::any_of(fixed.begin(), fixed.end(), [](std::uint8_t f) { return f != 0; });
-  return problem_.global_max(held ? 1.0 : 0.0) > 0;
+  // Nor where it does not fit the problem (an inverted tet or a random box
+  // recovering its rest shape quasi-statically, nothing held:
+  // tests/mpi/test_recovery.cpp stalled with it).
+  return multilevel_fits(problem_);
 }
 
 template <class Real>

@@ -674,6 +674,20 @@ TEST(Scene, MethodKeysAreChecked) {
   EXPECT_EQ(phases.solver.phase_lengths, (std::vector<int>{24}));
 }
 
+// Another P^-1 than Jacobi's for the methods that precondition, newton's CG
+// among them; not for gd, nor newton's direct and PETSc solvers.
+TEST(Scene, PreconditionerFollowsTheMethod) {
+  const std::string box = kBoxScene;
+  EXPECT_NO_THROW(parse(box + "[solver]\nmethod = \"newton\"\npreconditioner = \"multilevel\"\n"));
+  expect_has(error_of(box + "[solver]\nmethod = \"gd\"\npreconditioner = \"multilevel\"\n"),
+             "solver.preconditioner = \"multilevel\" preconditions chebyshev, jacobi_gd, nesterov, "
+             "ncg, lbfgs, linear_cg and newton's CG, not gd");
+  expect_has(error_of(box + "[solver]\nmethod = \"newton\"\nnewton_solver = \"ldlt\"\n"
+                            "preconditioner = \"multilevel\"\n"),
+             "solver.preconditioner = \"multilevel\" preconditions newton's CG "
+             "(solver.newton_solver = \"cg\"), not solver.newton_solver = \"ldlt\"");
+}
+
 // Automatic Chebyshev parameters unless the scene sets a fixed one; a fixed
 // key beside an explicit "auto" names the key, and so does chebyshev_delay
 // without fixed parameters.
@@ -1127,6 +1141,10 @@ TEST(Scene, ContactErrorsNameTheKey) {
   for (const char* method : {"gd", "jacobi_gd", "nesterov", "ncg", "lbfgs", "newton"})
     EXPECT_NO_THROW(parse(scene + "[solver]\nmethod = \"" + method + "\"\n")) << method;
   EXPECT_NO_THROW(parse(scene + "[solver]\npreconditioner = \"multilevel\"\n"));
+  // newton refreshes the multilevel operator, obstacles' blocks in, at each
+  // iterate.
+  EXPECT_NO_THROW(
+      parse(scene + "[solver]\nmethod = \"newton\"\npreconditioner = \"multilevel\"\n"));
   // linear_cg (corotated only) has no barrier yet.
   const std::vector<std::string> linear_cg = {"solver.method=\"linear_cg\"",
                                               "material.model=\"corotated\""};

@@ -17,12 +17,19 @@ MethodBase<Real>::MethodBase(LocalProblem<Real>& problem, const SolverSpec& spec
       spec_(spec),
       alpha_(spec.alpha_max),
       fixed_(problem.fixed_axes()),
-      preconditioner_(make_host_preconditioner(problem, spec)),
       barrier_(problem.has_contact_barrier()),
       steps_since_refresh_(spec.preconditioner_refresh),
       own_guess_(own_guess) {
   const std::size_t n = 3 * static_cast<std::size_t>(problem.num_vertices());
   for (auto* v : {&y_, &qt_, &q_, &q_checked_}) v->resize(n);
+  // After qt_ has its memory: a multilevel P^-1 reads the obstacles' lags
+  // from there at each refresh.
+  preconditioner_ = make_host_preconditioner(problem, spec, qt_.data());
+}
+
+template <class Real>
+void MethodBase<Real>::refresh_preconditioner(const Real* q) {
+  if (preconditioner_) preconditioner_->refresh(q);
 }
 
 template <class Real>

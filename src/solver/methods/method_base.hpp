@@ -84,6 +84,9 @@ class MethodBase : public Stepper<Real> {
   // each step's initial guess (every solver.preconditioner_refresh steps)
   // and after each rollback.
   void precondition(const Real* g, const Real* d, Real* z);
+  // A method whose operator changes within a step (newton: each iteration's
+  // Hessian) rebuilds P^-1 at q itself; nothing with Jacobi's.
+  void refresh_preconditioner(const Real* q);
   // The preconditioner other than Jacobi's (null with Jacobi).
   const Preconditioner<Real>* preconditioner() const override { return preconditioner_.get(); }
 

@@ -25,9 +25,9 @@ int Newton<Real>::solve(double rhs_norm2, bool& positive) {
   for (std::size_t k = 0; k < n; ++k) {
     dq_[k] = 0;
     r_[k] = -g_[k];
-    z_[k] = r_[k] / diag[k];
-    p_[k] = z_[k];
   }
+  this->precondition(r_.data(), diag, z_.data());
+  p_ = z_;
   double rz = this->local_dot(r_.data(), z_.data());
   this->problem_.global_dots(&rz, 1);
   const double stop = this->spec_.cg_tolerance * this->spec_.cg_tolerance * rhs_norm2;
@@ -46,8 +46,8 @@ int Newton<Real>::solve(double rhs_norm2, bool& positive) {
     for (std::size_t k = 0; k < n; ++k) {
       dq_[k] += a * p_[k];
       r_[k] -= a * ap_[k];
-      z_[k] = r_[k] / diag[k];
     }
+    this->precondition(r_.data(), diag, z_.data());
     double dots[2] = {this->local_dot(r_.data(), z_.data()), this->local_dot(r_.data(), r_.data())};
     this->problem_.global_dots(dots, 2);
     if (dots[1] <= stop) break;
@@ -125,6 +125,9 @@ void Newton<Real>::iterate(StepStats& stats) {
     // is no descent direction.
     bool project = this->spec_.newton_projection == "always";
     double slope = 0;
+    // P^-1 of the CG (solver.preconditioner other than Jacobi's) at this
+    // iterate's Hessian: the step's start built it at the guess.
+    if (k > 0 && !ldlt_ && !petsc_) this->refresh_preconditioner(this->q_.data());
     for (;;) {
       hessian_.assemble(this->q_.data(), project);
       hessian_.assemble_contact(this->q_.data(), this->qt_.data(), project);

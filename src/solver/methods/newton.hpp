@@ -2,13 +2,20 @@
 // `newton`, the ground truth (DESIGN §1, accuracy metric): at each Newton
 // iteration the element Hessians (HessianOperator::assemble; exact, or
 // PSD-projected per solver.newton_projection), the system H dq = -g solved
-// by Jacobi-preconditioned CG, distributed and without a global matrix, to
+// by preconditioned CG, distributed and without a global matrix, to
 // |r| <= cg_tolerance |g|, then a backtracking (Armijo, c = 1e-4, t halved)
 // line search on the energy; stop at |g| <= newton_tolerance |g(q0)| or
 // after newton_iterations, or with solver.accuracy = TOL after the
 // iteration whose decrement says e <= TOL at its start (newton.cpp states
 // the relation; newton_iterations stays the cap). One Newton iteration is
 // one observed iteration.
+// The CG's P^-1: Jacobi's diagonal of H, or with solver.preconditioner =
+// "multilevel" one V-cycle of the hierarchy whose finest operator is H's
+// projected form at this iterate (MethodBase builds it at the step's guess,
+// Newton again at each later iterate; the obstacles' contact blocks join
+// it, the pairs between bodies are refused by the scene checks). Per CG
+// iteration it adds the V-cycle's one MPI_Allgatherv, per Newton iteration
+// its refresh's collectives (docs/multilevel.md).
 // With contact barriers (contact.method = "energy": obstacles, pairs
 // between bodies) the barriers and lagged friction are part of eps: their
 // Hessians join H (HessianOperator::assemble_contact; projected with the

@@ -1,5 +1,6 @@
 // The multilevel preconditioner on the host execution: the methods' and the
 // CPU engine's.
+#include "contact/obstacle_contact.hpp"
 #include "kernels/cpu/host_exec.hpp"
 #include "solver/preconditioners/multilevel/multilevel_impl.hpp"
 #include "solver/preconditioners/multilevel/multilevel_preconditioner.hpp"
@@ -12,8 +13,12 @@ namespace {
 template <class Real>
 class HostMultilevel final : public Preconditioner<Real> {
  public:
-  HostMultilevel(LocalProblem<Real>& problem, const SolverSpec& spec)
-      : impl_(exec_, problem, spec) {}
+  HostMultilevel(LocalProblem<Real>& problem, const SolverSpec& spec, const Real* contact_qt)
+      : impl_(exec_, problem, spec) {
+    const ObstacleContact<Real>* contact = problem.contact();
+    if (contact_qt && contact && contact->energy_method() && !contact->vertices().empty())
+      impl_.use_contact(contact->view(), contact_qt);
+  }
   void refresh(const Real* q) override { impl_.refresh(q); }
   void read_interpolants_from(const Real* l) override { impl_.read_interpolants_from(l); }
   void apply(const Real* r, Real* z) override { impl_.apply(r, z); }
@@ -29,15 +34,18 @@ class HostMultilevel final : public Preconditioner<Real> {
 
 template <class Real>
 std::unique_ptr<Preconditioner<Real>> make_host_multilevel(LocalProblem<Real>& problem,
-                                                           const SolverSpec& spec) {
-  return std::make_unique<HostMultilevel<Real>>(problem, spec);
+                                                           const SolverSpec& spec,
+                                                           const Real* contact_qt) {
+  return std::make_unique<HostMultilevel<Real>>(problem, spec, contact_qt);
 }
 
 template class MultilevelPreconditioner<HostExec, double>;
 template class MultilevelPreconditioner<HostExec, float>;
 template std::unique_ptr<Preconditioner<double>> make_host_multilevel(LocalProblem<double>&,
-                                                                      const SolverSpec&);
+                                                                      const SolverSpec&,
+                                                                      const double*);
 template std::unique_ptr<Preconditioner<float>> make_host_multilevel(LocalProblem<float>&,
-                                                                     const SolverSpec&);
+                                                                     const SolverSpec&,
+                                                                     const float*);
 
 }  // namespace descent

@@ -42,10 +42,12 @@
 
 namespace descent {
 
-// The host execution's preconditioner, for the methods and the CPU engine.
-// Collective (builds the hierarchy).
+// The host execution's preconditioner, for the methods and the CPU engine;
+// with `contact_qt`, the obstacles' contact blocks as make_host_preconditioner
+// says. Collective (builds the hierarchy).
 template <class Real>
 std::unique_ptr<Preconditioner<Real>> make_host_multilevel(LocalProblem<Real>& problem,
-                                                           const SolverSpec& spec);
+                                                           const SolverSpec& spec,
+                                                           const Real* contact_qt = nullptr);
 
 }  // namespace descent
