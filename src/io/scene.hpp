@@ -248,7 +248,7 @@ struct SolverSpec {
   // accuracy on the main job and the study scenes: bench/results/multilevel)
   // on the CPU and for newton's CG (16-18x per Newton step on the helix:
   // bench/results/newton_step), for a body with inertia or held dofs and
-  // without contact between bodies; jacobi for every other method (the
+  // (chebyshev) without contact between bodies; jacobi for every other method (the
   // papers' forms), for the fixed parameters (tuned to Jacobi's spectrum),
   // on a device, and for a quasi-static body nothing holds.
   // preconditioner_of() resolves it by method (multilevel_fits() and

@@ -313,17 +313,17 @@ void check_contact(const SceneDocument& doc, const Scene& scene) {
         detail::concat(doc.where("solver.newton_solver"), ": solver.newton_solver = \"",
                        scene.solver.newton_solver, "\" assembles no contact terms, and ", what,
                        " with contact.method = \"energy\" put a barrier in eps; use \"cg\""));
-  // "auto" is Jacobi's D here: chebyshev leaves out its multilevel operator
-  // with pairs, and the other methods take D. The multilevel operator takes
-  // the obstacles' blocks in at each refresh: with chebyshev, which scales
-  // P^-1 where the barrier stiffens between refreshes, and with newton,
-  // which refreshes it at each iteration's Hessian; the other methods keep
-  // one P^-1 through a step while the barrier stiffens.
+  // The multilevel operator takes the obstacles' blocks in at each refresh:
+  // with chebyshev, which scales P^-1 where the barrier stiffens between
+  // refreshes, and with newton, which refreshes it at each iteration's
+  // Hessian; the other methods keep one P^-1 through a step while the
+  // barrier stiffens. Between bodies only newton's takes the pairs (their
+  // diagonal; CG's products hold the couplings). "auto" resolves to what
+  // fits (preconditioners/make_preconditioner.hpp).
   const std::string& preconditioner = scene.solver.preconditioner;
   const bool other = preconditioner == "multilevel" || preconditioner == "petsc_gamg";
-  const bool takes_obstacles =
-      method == "chebyshev" || (method == "newton" && preconditioner == "multilevel");
-  if (other && (between_bodies || !takes_obstacles))
+  const bool newton_multilevel = method == "newton" && preconditioner == "multilevel";
+  if (other && !newton_multilevel && (between_bodies || method != "chebyshev"))
     throw InputError(
         detail::concat(doc.where("solver.preconditioner"), ": solver.preconditioner = \"",
                        preconditioner, "\" knows nothing of the contact barrier of ", what,

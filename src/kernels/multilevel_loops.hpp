@@ -156,6 +156,19 @@ void add_vertex_curvature(Exec& exec, int stream, index_t num_owned, VertexTerms
       });
 }
 
+// `diagonal` (3 per vertex) on the free diagonal entries of owned vertices
+// [0, num_owned): terms each sharer of a vertex evaluates alike.
+template <class Exec, class Real>
+void add_owned_diagonal(Exec& exec, int stream, index_t num_owned, const Real* diagonal,
+                        const std::uint8_t* fixed, const index_t* diagonal_slots, Real* values) {
+  exec.for_each(
+      stream, 0, num_owned, DESCENT_LAMBDA(index_t v) {
+        Real* block = values + 9 * static_cast<std::int64_t>(diagonal_slots[v]);
+        for (int i = 0; i < 3; ++i)
+          if (!held(fixed, 3 * v + i)) block[4 * i] += diagonal[3 * v + i];
+      });
+}
+
 // y = A x on rows [begin, end) (this rank's partial rows).
 template <int B, class Exec, class Real>
 void block_product(Exec& exec, int stream, index_t begin, index_t end, const index_t* offsets,

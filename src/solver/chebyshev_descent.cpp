@@ -94,7 +94,7 @@ bool ChebyshevDescent<Real>::automatic_multilevel_fits() {
   // Nor where it does not fit the problem (an inverted tet or a random box
   // recovering its rest shape quasi-statically, nothing held:
   // tests/mpi/test_recovery.cpp stalled with it).
-  return multilevel_fits(problem_);
+  return multilevel_fits(problem_, false);
 }
 
 template <class Real>

@@ -113,8 +113,10 @@ TEST_F(NewtonMultilevelTest, DistributedRunsAgreeWithOneRank) {
 }
 
 // solver.preconditioner = "auto" gives newton's CG the multilevel P^-1 where
-// it fits: a body with inertia, or held quasi-statically; not a quasi-static
-// body that nothing holds (its operator is singular), nor the direct solver.
+// it fits: a body with inertia, or held quasi-statically, and bodies in
+// contact (the pairs' diagonal joins it; the Chebyshev descent keeps Jacobi's
+// there); not a quasi-static body that nothing holds (its operator is
+// singular), nor the direct solver.
 TEST_F(NewtonMultilevelTest, AutoTakesTheMultilevelOneWhereItFits) {
   auto has_multilevel = [&](const Scene& scene) {
     Simulation<double> sim(MPI_COMM_WORLD, scene, mesh_);
@@ -134,6 +136,16 @@ TEST_F(NewtonMultilevelTest, AutoTakesTheMultilevelOneWhereItFits) {
   Scene ldlt = scene_;
   ldlt.solver.newton_solver = "ldlt";
   EXPECT_FALSE(has_multilevel(ldlt));
+
+  const Scene two = testing::head_on(2.0);
+  const Mesh bodies = build_scene_mesh(two);
+  Simulation<double> chebyshev(MPI_COMM_WORLD, two, bodies);
+  EXPECT_EQ(chebyshev.stepper().preconditioner(), nullptr);
+  SolverSpec spec = two.solver;
+  spec.method = "newton";
+  const Newton<double> newton(chebyshev.problem(), spec);
+  const Stepper<double>& stepper = newton;
+  EXPECT_NE(stepper.preconditioner(), nullptr);
 }
 
 }  // namespace

@@ -1291,6 +1291,8 @@ TEST(Scene, ContactBetweenBodiesAsABarrierNeedsAMethodThatEvaluatesItWithJacobi)
   EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"lbfgs\"\n"));
   EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"nesterov\"\n"));
   EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"newton\"\n"));
+  // newton's multilevel CG takes the pairs' diagonal at each iterate.
+  EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"newton\"\npreconditioner = \"multilevel\"\n"));
   EXPECT_NO_THROW(parse(two + "[solver]\nmethod = \"ncg\"\n"));
   const std::vector<std::string> linear_cg = {"solver.method=\"linear_cg\"",
                                               "material.model=\"corotated\""};

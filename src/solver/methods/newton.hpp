@@ -13,7 +13,8 @@
 // "multilevel" one V-cycle of the hierarchy whose finest operator is H's
 // projected form at this iterate (MethodBase builds it at the step's guess,
 // Newton again at each later iterate; the obstacles' contact blocks join
-// it, the pairs between bodies are refused by the scene checks). Per CG
+// it, and the diagonal of the pairs' between bodies, whose couplings stay in
+// the CG's products). Per CG
 // iteration it adds the V-cycle's one MPI_Allgatherv, per Newton iteration
 // its refresh's collectives (docs/multilevel.md).
 // With contact barriers (contact.method = "energy": obstacles, pairs

@@ -16,13 +16,15 @@
 namespace descent {
 
 // Whether the multilevel P^-1 that solver.preconditioner = "auto" names
-// fits the problem: not with contact between bodies (its pairs couple
-// vertices the hierarchy's operators do not know, docs/contact.md), nor
-// where its operator is singular, a quasi-static body that nothing holds
-// (its rigid motions cost nothing). Collective (one allreduce: whether any
-// rank holds a dof).
+// fits the problem: not where its operator is singular, a quasi-static body
+// that nothing holds (its rigid motions cost nothing), and with contact
+// between bodies only for a method that `takes_pairs`, newton's CG, which
+// refreshes it at each iterate with the pairs' diagonal (their couplings,
+// which the hierarchy's operators do not know, slowed the Chebyshev
+// descent: docs/contact.md). Collective (one allreduce: whether any rank
+// holds a dof).
 template <class Real>
-bool multilevel_fits(LocalProblem<Real>& problem);
+bool multilevel_fits(LocalProblem<Real>& problem, bool takes_pairs);
 
 // With solver.preconditioner = "auto", null (Jacobi's) where the multilevel
 // P^-1 that preconditioner_of() names does not fit.

@@ -155,13 +155,21 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
     contact_qt_ = qt;
   }
 
-  void refresh(const Real* q) override {
+  void refresh(const Real* q) override { refresh(q, nullptr); }
+  // With `extra_diagonal` (3 per local vertex, this execution's memory, the
+  // same on every sharer): added to the finest operator's diagonal too.
+  void refresh(const Real* q, const Real* extra_diagonal) {
     const auto start = Clock::now();
     if (converting_ && !interpolant_source_) {
       const std::vector<Real>& l = problem_.interpolants();
       exec_.copy(kStream, interpolant_.data(), l.data(), interpolant_.bytes());
     }
     assemble_finest(q, converting_);
+    if (extra_diagonal) {
+      loops::add_owned_diagonal(exec_, kStream, problem_.mesh().num_owned, extra_diagonal,
+                                fixed_.data(), diagonal_slots_.data(), levels_[0].values.data());
+      exec_.sync(kStream);
+    }
     rebuild(finest_on_host());
     ++stats_.refreshes;
     stats_.refresh_seconds += std::chrono::duration<double>(Clock::now() - start).count();
