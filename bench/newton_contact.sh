@@ -42,7 +42,8 @@ for c in $cases; do
     for pc in multilevel jacobi; do
       cmd=("$build/src/app/descent" run "$root/jobs/contact/$scene.toml" --overwrite
            --out "$scratch/$pc" "${keys[@]}" --set "solver.preconditioner='$pc'")
-      echo "$(date -u +%T) run $run: ${cmd[*]}" >>"$log"
+      # Paths in the log relative to the repository, the scratch folder as SCRATCH.
+      echo "$(date -u +%T) run $run: ${cmd[*]}" | sed -e "s|$root/||g" -e "s|$scratch|SCRATCH|g" >>"$log"
       "${cmd[@]}" >>"$log" 2>&1
       awk -F, -v c="$c" -v pc="$pc" -v run="$run" '
         NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }

@@ -45,7 +45,8 @@ for c in "${cases[@]}"; do
   read -r scene frames <<<"$c"
   file=$root/jobs/contact/$scene.toml
   [[ $scene == snowman_fine ]] && file=$scratch/snowman_fine.toml
-  echo "$scene frame $frames: $bench $file $frames" >>"$log"
+  # Paths in the log relative to the repository, the scratch folder as SCRATCH.
+  echo "$scene frame $frames: $bench $file $frames" | sed -e "s|$root/||g" -e "s|$scratch|SCRATCH|g" >>"$log"
   start=$(date +%s)
   "$bench" "$file" "$frames" 2>>"$log" | sed "s|^[^,]*,|$scene,|" >>"$csv"
   echo "  $(($(date +%s) - start)) s" >>"$log"
