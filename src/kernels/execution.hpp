@@ -6,6 +6,8 @@
 //   kAsync                        launches return before the work is done
 //   kHostMemory                   its memory is the host's (no copies needed)
 //   for_each(stream, begin, end, f)   f(i) for i in [begin, end)
+//   serial()                      for_each runs i = begin, begin + 1, ... one
+//                                 after another (a host with one thread)
 //   reduce(stream, n, f)          sum over i of f(i), a Sum2 of doubles, in an
 //                                 order that does not change from run to run
 //   allocate/release(bytes)       device memory; allocate_pinned for staging

@@ -18,6 +18,7 @@
 #include "kernels/conversion.hpp"
 #include "kernels/element.hpp"
 #include "kernels/element_hessian_product.hpp"
+#include "kernels/element_out.hpp"
 #include "kernels/execution.hpp"
 #include "kernels/in_double.hpp"
 #include "kernels/vertex.hpp"
@@ -69,17 +70,6 @@ DESCENT_HOST_DEVICE inline void store_corners(const Vec3<Real> values[4], Real* 
   }
 }
 
-// Where an element pass puts its per-corner results: the corner arrays
-// (gather; `corner_diag` null without the diagonal) or, added atomically,
-// the vertex partials (scatter; `partial` null in gather).
-template <class Real>
-struct ElementOut {
-  Real* corner_grad = nullptr;
-  Real* corner_diag = nullptr;
-  Real* partial = nullptr;
-  int width = 3;
-};
-
 // One tet's per-corner results (and the diagonal's, with `diag`) to `out`.
 template <class Real>
 DESCENT_HOST_DEVICE inline void put_corners(const ElementOut<Real>& out, const index_t* tets,
@@ -93,13 +83,13 @@ DESCENT_HOST_DEVICE inline void put_corners(const ElementOut<Real>& out, const i
   const index_t* tet = tets + 4 * static_cast<std::int64_t>(t);
   for (int a = 0; a < 4; ++a) {
     Real* p = out.partial + static_cast<std::int64_t>(out.width) * tet[a];
-    atomic_add(p, g[a].x);
-    atomic_add(p + 1, g[a].y);
-    atomic_add(p + 2, g[a].z);
+    add_to_partial(out, p, g[a].x);
+    add_to_partial(out, p + 1, g[a].y);
+    add_to_partial(out, p + 2, g[a].z);
     if (diag) {
-      atomic_add(p + 3, diag[a].x);
-      atomic_add(p + 4, diag[a].y);
-      atomic_add(p + 5, diag[a].z);
+      add_to_partial(out, p + 3, diag[a].x);
+      add_to_partial(out, p + 4, diag[a].y);
+      add_to_partial(out, p + 5, diag[a].z);
     }
   }
 }
@@ -124,21 +114,18 @@ DESCENT_HOST_DEVICE inline void element_results(const Model& model, const Conver
 // Gradient (and, when `with_diag`, the Hessian diagonal) of tets [begin,
 // end). With conversion (Converting) each tet's interpolant is updated in
 // place first (Eq. 17). Gather and scatter are separate loops, so neither
-// tests the other's case per tet. On the host, the gather pass of a model
-// that runs in lanes takes blocks of tets at once (kernels/cpu/lane_models.hpp),
-// bitwise the same results.
+// tests the other's case per tet. On the host, a model that runs in lanes
+// takes blocks of tets at once (kernels/cpu/lane_models.hpp), bitwise the
+// same results.
 template <bool Converting, class Exec, class Real, class Model>
 void element_pass(Exec& exec, int stream, const Model& model, const Conversion<Real>& conv,
                   Real* interpolant, const Real* x, const index_t* tets, const TetRest<Real>* rest,
                   index_t begin, index_t end, bool with_diag, ElementOut<Real> out) {
 #if !defined(__CUDACC__)
   if constexpr (Exec::kHostMemory && LaneModel<Model, kLaneWidth<Real>>) {
-    if (out.partial == nullptr) {
-      element_pass_lanes<Converting, kLaneWidth<Real>>(exec, stream, model, conv, interpolant, x,
-                                                       tets, rest, begin, end, out.corner_grad,
-                                                       with_diag ? out.corner_diag : nullptr);
-      return;
-    }
+    element_pass_lanes<Converting, kLaneWidth<Real>>(exec, stream, model, conv, interpolant, x,
+                                                     tets, rest, begin, end, with_diag, out);
+    return;
   }
 #endif
   if (out.partial == nullptr) {
@@ -171,14 +158,12 @@ void hessian_product_pass(Exec& exec, int stream, const Model& model, const Conv
                           const index_t* tets, const TetRest<Real>* rest, index_t begin,
                           index_t end, ElementOut<Real> out) {
 #if !defined(__CUDACC__)
-  // On the host, the gather pass of a lane model in blocks of tets, bitwise
-  // the same products (kernels/cpu/lane_models.hpp).
+  // On the host, a lane model in blocks of tets, bitwise the same products
+  // (kernels/cpu/lane_models.hpp).
   if constexpr (Exec::kHostMemory && LaneModel<Model, kLaneWidth<Real>>) {
-    if (out.partial == nullptr) {
-      hessian_product_pass_lanes<Converting, kLaneWidth<Real>>(
-          exec, stream, model, conv, interpolant, x, p, tets, rest, begin, end, out.corner_grad);
-      return;
-    }
+    hessian_product_pass_lanes<Converting, kLaneWidth<Real>>(exec, stream, model, conv, interpolant,
+                                                             x, p, tets, rest, begin, end, out);
+    return;
   }
 #endif
   exec.for_each(

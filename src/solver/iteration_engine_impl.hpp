@@ -47,7 +47,11 @@ class EngineImpl final : public IterationEngine<Real> {
     ni_ = mesh.num_interior;
     owned_ = mesh.num_owned;
     n3_ = 3 * static_cast<std::size_t>(nv_);
-    const bool gather = options.assembly == Assembly::gather;
+    // A host with one thread adds the element results to the vertex partials
+    // in tet order: bitwise the gather's sums, without the corner arrays'
+    // round trip through memory (kernels/element_out.hpp).
+    in_order_ = options.assembly == Assembly::gather && exec_.serial();
+    const bool gather = options.assembly == Assembly::gather && !in_order_;
 
     tets_ = constant(mesh.tets.data(), mesh.tets.size(), memory_.tet_bytes);
     rest_ = constant(problem.rest().data(), problem.rest().size(), memory_.tet_bytes);
@@ -354,7 +358,7 @@ class EngineImpl final : public IterationEngine<Real> {
     synchronize();
     const auto start = std::chrono::steady_clock::now();
     for (int r = 0; r < repeats; ++r) {
-      if (options_.assembly == Assembly::scatter)
+      if (!gathers())
         exec_.zero(kMain, partial_.data(), static_cast<std::size_t>(width) * nv_ * sizeof(Real));
       element_pass(kMain, q, 0, nt_, with_diag, width);
     }
@@ -362,9 +366,8 @@ class EngineImpl final : public IterationEngine<Real> {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / repeats;
     // Per tet: 4 ids, the rest data, 12 position reals, 12 output reals per
-    // output (scatter: each an atomic read-modify-write, counted twice).
-    const double outputs = (with_diag ? 24.0 : 12.0) *
-                           (options_.assembly == Assembly::scatter ? 2.0 : 1.0) * sizeof(Real);
+    // output (added to the partials: each a read-modify-write, counted twice).
+    const double outputs = (with_diag ? 24.0 : 12.0) * (gathers() ? 1.0 : 2.0) * sizeof(Real);
     const double per_tet =
         4.0 * sizeof(index_t) + sizeof(TetRest<Real>) + 12.0 * sizeof(Real) + outputs;
     return {seconds, per_tet * nt_};
@@ -372,7 +375,8 @@ class EngineImpl final : public IterationEngine<Real> {
 
   EngineMemory memory() const override { return memory_; }
   std::string describe() const override {
-    return exec_.describe() + ", " + to_string(options_.assembly) + " assembly";
+    return exec_.describe() + ", " + to_string(options_.assembly) + " assembly" +
+           (in_order_ ? " (in tet order)" : "");
   }
   bool on_device() const override { return !Exec::kHostMemory; }
   long graph_launches() const override { return exec_.graph_launches(); }
@@ -421,6 +425,9 @@ class EngineImpl final : public IterationEngine<Real> {
     exec_.clear_graphs();
   }
 
+  // Whether the element results go through the corner arrays and the gather.
+  bool gathers() const { return options_.assembly == Assembly::gather && !in_order_; }
+
   loops::VertexData<Real> vertex_data() const {
     return {mass_.data(), fixed_.data(), floor_.data(), force_.data(),
             y_.data(),    qt_.data(),    terms_};
@@ -428,11 +435,12 @@ class EngineImpl final : public IterationEngine<Real> {
 
   loops::ElementOut<Real> element_out(int width) {
     loops::ElementOut<Real> out;
-    if (options_.assembly == Assembly::gather) {
+    if (gathers()) {
       out.corner_grad = corner_grad_.data();
       out.corner_diag = corner_diag_.data();
     } else {
       out.partial = partial_.data();
+      out.in_order = in_order_;
     }
     out.width = width;
     return out;
@@ -487,7 +495,7 @@ class EngineImpl final : public IterationEngine<Real> {
   // main stream holds the result when this returns.
   template <class ElementPass>
   void assemble(const ElementPass& pass, bool with_diag, int width) {
-    const bool gather_mode = options_.assembly == Assembly::gather;
+    const bool gather_mode = gathers();
     const bool exchange = halo_.num_neighbours() > 0;
     const std::size_t shared_offset = static_cast<std::size_t>(width) * ni_;
     const std::size_t shared_bytes = static_cast<std::size_t>(width) * (nv_ - ni_) * sizeof(Real);
@@ -604,6 +612,7 @@ class EngineImpl final : public IterationEngine<Real> {
   bool converting_;
   VertexTerms<Real> terms_;
   index_t nt_ = 0, nb_ = 0, nv_ = 0, ni_ = 0, owned_ = 0;
+  bool in_order_ = false;
   std::size_t n3_ = 0;
   int cur_ = 0;
   EngineMemory memory_;

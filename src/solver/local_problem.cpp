@@ -169,8 +169,8 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
     for (index_t v = 0; v < nv; ++v)
       for (int i = 0; i < 3; ++i)
         rest_diagonal[3 * v + i] = at_rest.values[at_rest.width * v + 3 + i];
-    // The pass's corner values go: a method that needs them allocates them
-    // again (element_pass); a run on the engine never does.
+    // The pass's corner values (with threads) go: a method that needs them
+    // allocates them again (elastic_gradient); a run on the engine never does.
     std::vector<Real>().swap(corner_grad_);
     std::vector<Real>().swap(corner_diag_);
   }
@@ -195,17 +195,9 @@ LocalProblem<Real>::LocalProblem(const LocalMesh& mesh, const Scene& scene, Halo
 }
 
 template <class Real>
-void LocalProblem<Real>::element_pass(const Real* q, index_t begin, index_t end,
-                                      bool with_diagonal) {
-  // Made at the first use: the Chebyshev engine keeps corner arrays of its
-  // own, and a run that never comes here saves 24 reals per tet.
-  if (corner_grad_.empty()) {
-    corner_grad_.resize(12 * static_cast<std::size_t>(mesh_.num_tets()));
-    corner_diag_.resize(12 * static_cast<std::size_t>(mesh_.num_tets()));
-  }
+void LocalProblem<Real>::element_pass(const Real* q, index_t begin, index_t end, bool with_diagonal,
+                                      const loops::ElementOut<Real>& out) {
   HostExec host;
-  const loops::ElementOut<Real> out{corner_grad_.data(),
-                                    with_diagonal ? corner_diag_.data() : nullptr, nullptr, 3};
   std::visit(
       [&](const auto& model) {
         if (converting_)
@@ -287,7 +279,27 @@ typename LocalProblem<Real>::Assembled LocalProblem<Real>::elastic_gradient(cons
   const int width = with_diagonal ? 6 : 3;
   Real* partial = partial_.data();
   HostExec host;
+  loops::ElementOut<Real> out;
+  out.width = width;
+  // One thread adds the results to the partials in tet order, bitwise the
+  // gather's sums (kernels/element_out.hpp); threads gather through the
+  // corner arrays, made at the first use: a run that never comes here (the
+  // Chebyshev engine keeps its own) saves 24 reals per tet.
+  const bool in_order = host.serial();
+  if (in_order) {
+    std::fill(partial, partial + static_cast<std::size_t>(width) * nv, Real(0));
+    out.partial = partial;
+    out.in_order = true;
+  } else {
+    if (corner_grad_.empty()) {
+      corner_grad_.resize(12 * static_cast<std::size_t>(nt));
+      corner_diag_.resize(12 * static_cast<std::size_t>(nt));
+    }
+    out.corner_grad = corner_grad_.data();
+    out.corner_diag = with_diagonal ? corner_diag_.data() : nullptr;
+  }
   auto gather = [&](index_t begin, index_t end) {
+    if (in_order) return;
     loops::gather_corners(host, 0, offsets, corners, begin, end, corner_grad_.data(), partial,
                           width, 0);
     if (with_diagonal)
@@ -296,11 +308,12 @@ typename LocalProblem<Real>::Assembled LocalProblem<Real>::elastic_gradient(cons
   };
 
   // Boundary tets, then their (shared) vertices, then the exchange in flight
-  // while the interior is computed.
-  element_pass(q, 0, nb, with_diagonal);
+  // while the interior is computed (in order, the interior tets touch no
+  // shared vertex).
+  element_pass(q, 0, nb, with_diagonal, out);
   gather(ni, nv);
   halo_.begin(partial, width);
-  element_pass(q, nb, nt, with_diagonal);
+  element_pass(q, nb, nt, with_diagonal, out);
   gather(0, ni);
   halo_.finish(partial, width);
 

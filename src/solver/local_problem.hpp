@@ -6,6 +6,7 @@
 //
 // Layout: every per-vertex array is xyz-interleaved over local vertices
 // (LocalMesh order: interior, shared owned, shared not owned).
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -17,6 +18,8 @@
 #include "contact/obstacle_contact.hpp"
 #include "io/scene.hpp"
 #include "kernels/conversion.hpp"
+#include "kernels/cpu/host_exec.hpp"
+#include "kernels/element_out.hpp"
 #include "kernels/tet.hpp"
 #include "kernels/vertex.hpp"
 #include "partition/local_mesh.hpp"
@@ -160,6 +163,26 @@ class LocalProblem {
   // The conversion parameters (meaningful when energy_changes_within_step()).
   const Conversion<Real>& conversion() const { return conversion_; }
   void assemble_corners(const Real* corner_values, Real* out);
+  // The same sums from an element pass: pass(o) puts each tet's 12 values
+  // to the loops::ElementOut o. With one thread they are added to out in tet
+  // order (zeroed first; kernels/element_out.hpp), bitwise the gather's sums
+  // without the corner arrays; with threads through corner_values and
+  // assemble_corners.
+  template <class Pass>
+  void assemble_elements(Real* corner_values, Real* out, const Pass& pass) {
+    loops::ElementOut<Real> o;
+    if (HostExec().serial()) {
+      std::fill(out, out + 3 * static_cast<std::size_t>(mesh_.num_vertices()), Real(0));
+      o.partial = out;
+      o.in_order = true;
+      pass(o);
+      halo_.sum(out, 3);
+      return;
+    }
+    o.corner_grad = corner_values;
+    pass(o);
+    assemble_corners(corner_values, out);
+  }
   void global_dots(double* values, int count) { reduction_.sum_dots(values, count); }
   double global_max(double value) { return reduction_.max_of(value); }
 
@@ -176,10 +199,11 @@ class LocalProblem {
   const LocalMesh& mesh_;
   Halo<Real>& halo_;
   EnergyReduction& reduction_;
-  // Runs the element pass (gradient into corner_grad_, and the diagonal into
-  // corner_diag_ when with_diagonal) over tets [begin, end) with the scene's
-  // model and conversion.
-  void element_pass(const Real* q, index_t begin, index_t end, bool with_diagonal);
+  // Runs the element pass (the gradient and, when with_diagonal, the
+  // diagonal to `out`) over tets [begin, end) with the scene's model and
+  // conversion.
+  void element_pass(const Real* q, index_t begin, index_t end, bool with_diagonal,
+                    const loops::ElementOut<Real>& out);
 
   ElasticModel<Real> model_;
   double energy_noise_floor_ = 0;

@@ -7,14 +7,21 @@
 // P ranks against 1 rank over 10 frames, shared vertices bitwise equal on
 // all sharers; exactly one allreduce per energy check with fixed
 // parameters; the memory report only for an engine on a device; other
-// methods refused by the cuda backend.
+// methods refused by the cuda backend. One thread's assembly in tet order
+// against threads' gather: positions, gradients and Hessian products
+// bitwise equal.
 #include <gtest/gtest.h>
 #include <mpi.h>
+#include <omp.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "app/scene_mesh.hpp"
 #include "common/error.hpp"
+#include "kernels/cpu/host_exec.hpp"
+#include "solver/methods/hessian_operator.hpp"
 #include "tests/backends/compare_runs.hpp"
 #include "tests/mpi/small_scenes.hpp"
 #include "tests/mpi/world_rank.hpp"
@@ -104,6 +111,62 @@ TEST(EngineAssembly, TwistedLoadedBoxMatchesGather) {
   scene.loads = {side};
   scene.solver.iterations = 64;
   expect_scatter_matches_gather<double>(scene, 4, 1e-9, "twisted, loaded box, 4 frames");
+}
+
+// OpenMP threads for the rest of a scope.
+struct Threads {
+  int before = omp_get_max_threads();
+  explicit Threads(int n) { omp_set_num_threads(n); }
+  ~Threads() { omp_set_num_threads(before); }
+};
+
+// With one thread the host adds the element results to the vertex partials
+// in tet order, with two it gathers them through the corner arrays
+// (kernels/element_out.hpp): the same sums bit for bit. So are the engine's
+// positions after 3 frames (fixed parameters and iterations: no reduction,
+// whose order the threads change, decides anything) and the other methods'
+// gradient, diagonal and Hessian products (LocalProblem, HessianOperator).
+TEST(EngineAssembly, OneThreadInOrderEqualsThreadsGatherBitwise) {
+  Scene scene = testing::fixed_chebyshev(testing::small_helix_scene());
+  scene.solver.accuracy = 0;
+  const Mesh mesh = build_scene_mesh(scene.mesh);
+  std::vector<double> positions[2];
+  for (int threads : {1, 2}) {
+    Threads use(threads);
+    ASSERT_EQ(HostExec().serial(), threads == 1);
+    positions[threads - 1] = testing::run_frames<double>(
+        MPI_COMM_WORLD, scene, mesh, backend_of(BackendKind::cpu, Assembly::gather), 3);
+  }
+  if (world_rank() == 0) {
+    EXPECT_GT(testing::max_difference(positions[0], mesh.positions), 0.0);
+    EXPECT_EQ(testing::max_difference(positions[0], positions[1]), 0.0);
+  }
+
+  Simulation<double> sim(MPI_COMM_WORLD, scene, mesh);
+  sim.step();
+  LocalProblem<double>& problem = sim.problem();
+  const std::vector<double> q = sim.state().q;
+  std::vector<double> p(q.size());
+  for (std::size_t k = 0; k < p.size(); ++k)
+    p[k] = std::sin(2.0 * problem.mesh().global_vertex[k / 3] + double(k % 3));
+  std::vector<double> gradient[2], product[2], stored_product[2];
+  for (int threads : {1, 2}) {
+    Threads use(threads);
+    const auto g = problem.elastic_gradient(q.data(), true);
+    gradient[threads - 1].assign(g.values, g.values + 6 * problem.num_vertices());
+    HessianOperator<double> hessian(problem);
+    product[threads - 1].resize(q.size());
+    hessian.product(q.data(), p.data(), product[threads - 1].data(), nullptr);
+    hessian.assemble(q.data(), true);
+    stored_product[threads - 1].resize(q.size());
+    hessian.apply(p.data(), stored_product[threads - 1].data());
+  }
+  auto bitwise = [](const std::vector<double>& a, const std::vector<double>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+  };
+  EXPECT_TRUE(bitwise(gradient[0], gradient[1])) << "gradient and diagonal";
+  EXPECT_TRUE(bitwise(product[0], product[1])) << "matrix-free Hessian product";
+  EXPECT_TRUE(bitwise(stored_product[0], stored_product[1])) << "stored Hessians' product";
 }
 
 TEST(EngineAssembly, RanksMatchOneRankAndSharersAgreeBitwise) {

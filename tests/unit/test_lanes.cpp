@@ -7,8 +7,11 @@
 // and the multilevel preconditioner's projected element Hessians. The
 // energies in double lanes are bitwise the
 // tet-by-tet energies in double, from double and float data, inverted
-// elements included.
+// elements included. Added to the vertex partials in tet order (one
+// thread), every pass's sums are bitwise those of the corner arrays and the
+// gather.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <cstring>
@@ -20,6 +23,8 @@
 #include "kernels/cpu/host_exec.hpp"
 #include "kernels/loops.hpp"
 #include "kernels/multilevel_loops.hpp"
+#include "meshes/generators.hpp"
+#include "partition/local_mesh.hpp"
 #include "random_element.hpp"
 
 namespace descent {
@@ -369,6 +374,122 @@ void every_lane_model_energy() {
 
 TEST(Lanes, EnergiesFromDoubleEqualTetByTet) { every_lane_model_energy<double>(); }
 TEST(Lanes, EnergiesFromFloatEqualTetByTet) { every_lane_model_energy<float>(); }
+
+}  // namespace
+}  // namespace descent
+
+namespace descent {
+namespace {
+
+// A box of 3 x 2 x 2 cells (72 tets, shared vertices) with its points moved
+// at random by up to 10% of a cell, and its vertex -> corner table.
+template <class Real>
+struct SharedMesh {
+  std::vector<Real> x;
+  std::vector<TetRest<Real>> rest;
+  LocalMesh mesh;
+};
+
+template <class Real>
+SharedMesh<Real> shared_mesh() {
+  BoxParams box;
+  box.cells = {3, 2, 2};
+  const Mesh m = make_box(box);
+  SharedMesh<Real> s;
+  s.mesh.tets = m.tets;
+  s.mesh.global_vertex.resize(m.num_vertices());
+  s.mesh.global_tet.resize(m.num_tets());
+  build_vertex_corners(s.mesh);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> shift(-0.05, 0.05);
+  for (double v : m.positions) s.x.push_back(static_cast<Real>(1.1 * v + shift(rng)));
+  for (index_t t = 0; t < m.num_tets(); ++t) {
+    const index_t* tet = m.tets.data() + 4 * t;
+    auto at = [&](int a) {
+      const double* p = m.positions.data() + 3 * tet[a];
+      return Vec3<Real>{static_cast<Real>(p[0]), static_cast<Real>(p[1]), static_cast<Real>(p[2])};
+    };
+    s.rest.push_back(tet_rest(at(0), at(1), at(2), at(3)));
+  }
+  return s;
+}
+
+// The passes' results assembled both ways: in tet order into the partials
+// (width 6), over tets [0, split) then [split, n) as the engine runs the
+// boundary and the interior, against the corner arrays and the gather of
+// every vertex, bit for bit; with conversion the interpolants too.
+template <class Real, bool Converting, class Model>
+void expect_in_order_matches_gather(const Model& model) {
+  SharedMesh<Real> s = shared_mesh<Real>();
+  const index_t nt = s.mesh.num_tets(), nv = s.mesh.num_vertices();
+  const index_t split = nt / 2 + 3;  // inside a block
+  const Conversion<Real> conv{Real(0.98), Real(1.02), Real(0.05),
+                              Arap<Real>::from_young_poisson(Real(1e5), Real(0.3))};
+  std::vector<Real> p(s.x.size());
+  for (std::size_t k = 0; k < p.size(); ++k) p[k] = static_cast<Real>(std::cos(2.0 + k));
+  // In order is one thread's (the engine takes it only then).
+  struct OneThread {
+    int threads = omp_get_max_threads();
+    OneThread() { omp_set_num_threads(1); }
+    ~OneThread() { omp_set_num_threads(threads); }
+  } one_thread;
+  HostExec exec;
+  ASSERT_TRUE(exec.serial());
+  const Real* no_l = nullptr;
+  auto both = [&](auto pass, int width, bool with_diag, const char* what) {
+    std::vector<Real> corners_g(12 * nt), corners_d(12 * nt), gathered(width * nv, Real(-1));
+    loops::ElementOut<Real> gather_out;
+    gather_out.corner_grad = corners_g.data();
+    gather_out.corner_diag = with_diag ? corners_d.data() : nullptr;
+    std::vector<Real> l_gather(nt, Real(0.5)), l_order(nt, Real(0.5));
+    pass(gather_out, 0, nt, l_gather.data());
+    loops::gather_corners(exec, 0, s.mesh.corner_offsets.data(), s.mesh.vertex_corners.data(), 0,
+                          nv, corners_g.data(), gathered.data(), width, 0);
+    if (with_diag)
+      loops::gather_corners(exec, 0, s.mesh.corner_offsets.data(), s.mesh.vertex_corners.data(), 0,
+                            nv, corners_d.data(), gathered.data(), width, 3);
+    std::vector<Real> in_order(width * nv, Real(0));
+    loops::ElementOut<Real> order_out;
+    order_out.partial = in_order.data();
+    order_out.width = width;
+    order_out.in_order = true;
+    pass(order_out, 0, split, l_order.data());
+    pass(order_out, split, nt, l_order.data());
+    ASSERT_EQ(std::memcmp(in_order.data(), gathered.data(), in_order.size() * sizeof(Real)), 0)
+        << what;
+    ASSERT_EQ(std::memcmp(l_order.data(), l_gather.data(), nt * sizeof(Real)), 0) << what;
+  };
+  both(
+      [&](const loops::ElementOut<Real>& out, index_t begin, index_t end, Real* l) {
+        loops::element_pass<Converting>(exec, 0, model, conv, Converting ? l : nullptr, s.x.data(),
+                                        s.mesh.tets.data(), s.rest.data(), begin, end, true, out);
+      },
+      6, true, "gradient and diagonal");
+  both(
+      [&](const loops::ElementOut<Real>& out, index_t begin, index_t end, Real* l) {
+        loops::element_pass<Converting>(exec, 0, model, conv, Converting ? l : nullptr, s.x.data(),
+                                        s.mesh.tets.data(), s.rest.data(), begin, end, false, out);
+      },
+      3, false, "gradient");
+  both(
+      [&](const loops::ElementOut<Real>& out, index_t begin, index_t end, Real* l) {
+        loops::hessian_product_pass<Converting>(
+            exec, 0, model, conv, Converting ? static_cast<const Real*>(l) : no_l, s.x.data(),
+            p.data(), s.mesh.tets.data(), s.rest.data(), begin, end, out);
+      },
+      3, false, "Hessian product");
+}
+
+template <class Real>
+void every_model_in_order() {
+  for_each_model<Real>([](const auto& model) {
+    expect_in_order_matches_gather<Real, false>(model);
+    expect_in_order_matches_gather<Real, true>(model);
+  });
+}
+
+TEST(Lanes, DoubleInOrderAssemblyEqualsGather) { every_model_in_order<double>(); }
+TEST(Lanes, FloatInOrderAssemblyEqualsGather) { every_model_in_order<float>(); }
 
 }  // namespace
 }  // namespace descent

@@ -29,6 +29,8 @@ class HostExec {
     for (index_t i = begin; i < end; ++i) f(i);
   }
 
+  bool serial() const { return omp_get_max_threads() == 1; }
+
   template <class F>
   Sum2 reduce(int /*stream*/, index_t n, const F& f) {
     double value = 0, magnitude = 0;

@@ -23,6 +23,7 @@
 #include "kernels/cpu/lanes.hpp"
 #include "kernels/element.hpp"
 #include "kernels/element_hessian_product.hpp"
+#include "kernels/element_out.hpp"
 #include "kernels/fung.hpp"
 #include "kernels/mooney_rivlin.hpp"
 #include "kernels/neo_hookean.hpp"
@@ -155,14 +156,42 @@ void store_lanes(const Vec3<Lanes<T, W>> values[4], index_t first, int count, T*
   }
 }
 
-// The gather element pass of tets [begin, end) in blocks of W: gradients to
-// corner_grad and, with `corner_diag` not null, the Hessian diagonal there;
-// with conversion (Converting) each tet's interpolant updated in place first.
+// The first `count` lanes of per-corner values added to the vertex partials
+// (`width` reals per vertex, from `offset` on), tet by tet from `first` on,
+// as loops::put_corners adds one tet's: plainly in order, else atomically.
+template <int W, class T>
+void add_lanes(const loops::ElementOut<T>& out, const Vec3<Lanes<T, W>> values[4],
+               const index_t* tets, index_t first, int count, int offset) {
+  for (int l = 0; l < count; ++l) {
+    const index_t* tet = tets + 4 * static_cast<std::int64_t>(first + l);
+    for (int a = 0; a < 4; ++a) {
+      T* p = out.partial + static_cast<std::int64_t>(out.width) * tet[a] + offset;
+      loops::add_to_partial(out, p, values[a].x.v[l]);
+      loops::add_to_partial(out, p + 1, values[a].y.v[l]);
+      loops::add_to_partial(out, p + 2, values[a].z.v[l]);
+    }
+  }
+}
+
+// The block's per-corner results to `out` (kernels/element_out.hpp):
+// gradients, or with `diagonal` the Hessian diagonal's.
+template <int W, class T>
+void put_lanes(const loops::ElementOut<T>& out, const Vec3<Lanes<T, W>> values[4],
+               const index_t* tets, index_t first, int count, bool diagonal) {
+  if (out.partial)
+    add_lanes<W>(out, values, tets, first, count, diagonal ? 3 : 0);
+  else
+    store_lanes<W>(values, first, count, diagonal ? out.corner_diag : out.corner_grad);
+}
+
+// The element pass of tets [begin, end) in blocks of W: gradients and, with
+// `with_diag`, the Hessian diagonal to `out`; with conversion (Converting)
+// each tet's interpolant updated in place first.
 template <bool Converting, int W, class Exec, class Real, class Model>
 void element_pass_lanes(Exec& exec, int stream, const Model& model, const Conversion<Real>& conv,
                         Real* interpolant, const Real* x, const index_t* tets,
-                        const TetRest<Real>* rest, index_t begin, index_t end, Real* corner_grad,
-                        Real* corner_diag) {
+                        const TetRest<Real>* rest, index_t begin, index_t end, bool with_diag,
+                        const loops::ElementOut<Real>& out) {
   using L = Lanes<Real, W>;
   const auto lanes = lane_model<W>(model);
   const auto lane_conv = lane_conversion<W>(conv);
@@ -171,34 +200,34 @@ void element_pass_lanes(Exec& exec, int stream, const Model& model, const Conver
     TetRest<L> r;
     const BlockTets<W> ids = block_tets<W>(first, count);
     load_lanes<W>(x, tets, rest, ids, c, r);
-    Vec3<L> out[4];
+    Vec3<L> values[4];
     if constexpr (Converting) {
       L l = load_values<W, Real>(interpolant, ids);
       Vec3<L> diag[4];
-      converted_gradient(lanes, lane_conv, l, r, c, out, corner_diag ? diag : nullptr);
+      converted_gradient(lanes, lane_conv, l, r, c, values, with_diag ? diag : nullptr);
       store_values<W>(l, first, count, interpolant);
-      store_lanes<W>(out, first, count, corner_grad);
-      if (corner_diag) store_lanes<W>(diag, first, count, corner_diag);
+      put_lanes<W>(out, values, tets, first, count, false);
+      if (with_diag) put_lanes<W>(out, diag, tets, first, count, true);
       return;
     }
-    element_gradient(lanes, r, c, out);
-    store_lanes<W>(out, first, count, corner_grad);
-    if (!corner_diag) return;
-    element_hessian_diagonal(lanes, r, c, out);
-    store_lanes<W>(out, first, count, corner_diag);
+    element_gradient(lanes, r, c, values);
+    put_lanes<W>(out, values, tets, first, count, false);
+    if (!with_diag) return;
+    element_hessian_diagonal(lanes, r, c, values);
+    put_lanes<W>(out, values, tets, first, count, true);
   });
 }
 
-// The gather Hessian-product pass of tets [begin, end) in blocks of W: the
-// product of each element's exact Hessian at x with the corners of p into
-// corner_out (12 reals per tet), as loops::hessian_product_pass stores it;
-// with conversion the blend at each tet's stored interpolant.
+// The Hessian-product pass of tets [begin, end) in blocks of W: the product
+// of each element's exact Hessian at x with the corners of p to `out`, as
+// loops::hessian_product_pass puts it; with conversion the blend at each
+// tet's stored interpolant.
 template <bool Converting, int W, class Exec, class Real, class Model>
 void hessian_product_pass_lanes(Exec& exec, int stream, const Model& model,
                                 const Conversion<Real>& conv, const Real* interpolant,
                                 const Real* x, const Real* p, const index_t* tets,
                                 const TetRest<Real>* rest, index_t begin, index_t end,
-                                Real* corner_out) {
+                                const loops::ElementOut<Real>& out) {
   using L = Lanes<Real, W>;
   const auto lanes = lane_model<W>(model);
   const auto lane_conv = lane_conversion<W>(conv);
@@ -208,13 +237,13 @@ void hessian_product_pass_lanes(Exec& exec, int stream, const Model& model,
     const BlockTets<W> ids = block_tets<W>(first, count);
     load_lanes<W>(x, tets, rest, ids, c, r);
     load_corners<W>(p, tets, ids, pc);
-    Vec3<L> out[4];
+    Vec3<L> values[4];
     if constexpr (Converting)
       converted_hessian_product(lanes, lane_conv, load_values<W, Real>(interpolant, ids), r, c,
-                                pc.x, out);
+                                pc.x, values);
     else
-      element_hessian_product(lanes, r, c, pc.x, out);
-    store_lanes<W>(out, first, count, corner_out);
+      element_hessian_product(lanes, r, c, pc.x, values);
+    put_lanes<W>(out, values, tets, first, count, false);
   });
 }
 

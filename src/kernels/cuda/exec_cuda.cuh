@@ -82,6 +82,8 @@ class CudaExec {
     DESCENT_CUDA_CHECK(cudaGetLastError());
   }
 
+  bool serial() const { return false; }
+
   template <class F>
   Sum2 reduce(int stream, index_t n, const F& f) {
     long long wanted = (static_cast<long long>(n) + cuda_detail::kBlock - 1) / cuda_detail::kBlock;

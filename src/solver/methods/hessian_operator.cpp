@@ -39,15 +39,15 @@ template <class Real>
 void HessianOperator<Real>::product(const Real* q, const Real* p, Real* out, const Real* qt) {
   HostExec host;
   const LocalMesh& mesh = problem_.mesh();
-  const loops::ElementOut<Real> corners{corners_.data(), nullptr, nullptr, 3};
-  std::visit(
-      [&](const auto& model) {
-        loops::hessian_product_pass<false>(
-            host, 0, model, problem_.conversion(), static_cast<const Real*>(nullptr), q, p,
-            mesh.tets.data(), problem_.rest().data(), 0, mesh.num_tets(), corners);
-      },
-      problem_.model());
-  problem_.assemble_corners(corners_.data(), out);
+  problem_.assemble_elements(corners_.data(), out, [&](const loops::ElementOut<Real>& o) {
+    std::visit(
+        [&](const auto& model) {
+          loops::hessian_product_pass<false>(
+              host, 0, model, problem_.conversion(), static_cast<const Real*>(nullptr), q, p,
+              mesh.tets.data(), problem_.rest().data(), 0, mesh.num_tets(), o);
+        },
+        problem_.model());
+  });
   // The pairs exist only as a barrier (contact.method = "energy").
   if (qt) {
     if (BodyContact<Real>* bodies = problem_.body_contact())
@@ -124,21 +124,24 @@ void HessianOperator<Real>::apply(const Real* p, Real* out) {
   const index_t nt = problem_.mesh().num_tets();
   const index_t* tets = problem_.mesh().tets.data();
   const Real* h = hessians_.data();
-  Real* corners = corners_.data();
+  problem_.assemble_elements(corners_.data(), out, [&](const loops::ElementOut<Real>& o) {
 #pragma omp parallel for schedule(static)
-  for (index_t t = 0; t < nt; ++t) {
-    const TetCorners<Real> pc = loops::tet_corners(p, tets, t);
-    const Real v[12] = {pc.x[0].x, pc.x[0].y, pc.x[0].z, pc.x[1].x, pc.x[1].y, pc.x[1].z,
-                        pc.x[2].x, pc.x[2].y, pc.x[2].z, pc.x[3].x, pc.x[3].y, pc.x[3].z};
-    const Real* ht = &h[144 * static_cast<std::size_t>(t)];
-    Real* c = &corners[12 * static_cast<std::size_t>(t)];
-    for (int r = 0; r < 12; ++r) {
-      Real sum = 0;
-      for (int s = 0; s < 12; ++s) sum += ht[12 * r + s] * v[s];
-      c[r] = sum;
+    for (index_t t = 0; t < nt; ++t) {
+      const TetCorners<Real> pc = loops::tet_corners(p, tets, t);
+      const Real v[12] = {pc.x[0].x, pc.x[0].y, pc.x[0].z, pc.x[1].x, pc.x[1].y, pc.x[1].z,
+                          pc.x[2].x, pc.x[2].y, pc.x[2].z, pc.x[3].x, pc.x[3].y, pc.x[3].z};
+      const Real* ht = &h[144 * static_cast<std::size_t>(t)];
+      Real c[12];
+      for (int r = 0; r < 12; ++r) {
+        Real sum = 0;
+        for (int s = 0; s < 12; ++s) sum += ht[12 * r + s] * v[s];
+        c[r] = sum;
+      }
+      const Vec3<Real> values[4] = {
+          {c[0], c[1], c[2]}, {c[3], c[4], c[5]}, {c[6], c[7], c[8]}, {c[9], c[10], c[11]}};
+      loops::put_corners(o, tets, t, values, static_cast<const Vec3<Real>*>(nullptr));
     }
-  }
-  problem_.assemble_corners(corners, out);
+  });
   if (pair_hessian_ != PairHessian::none)
     problem_.body_contact()->add_hessian_product(pairs_at_.data(), p, out, pair_hessian_);
   if (!contact_blocks_.empty()) {

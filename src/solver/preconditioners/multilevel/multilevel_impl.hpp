@@ -2,7 +2,6 @@
 // MultilevelPreconditioner over an execution (HostExec or CudaExec):
 // instantiated in multilevel_host.cpp and in the CUDA engine, nowhere else.
 // What it computes and where: multilevel_preconditioner.hpp.
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -53,7 +52,7 @@ class MultilevelPreconditioner final : public Preconditioner<Real> {
     const auto start = Clock::now();
     const LocalMesh& mesh = problem.mesh();
     comm_ = problem.halo().comm();
-    serial_ = Exec::kHostMemory && omp_get_max_threads() == 1;
+    serial_ = exec_.serial();
     fine_ = make_fine_structure(mesh, !serial_);
     tets_ = constant(mesh.tets.data(), mesh.tets.size());
     rest_ = constant(problem.rest().data(), problem.rest().size());
