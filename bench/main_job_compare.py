@@ -7,6 +7,9 @@ alternately run by run, and records the medians, every sample and the
 machine in bench/results/main_job_compare.md.
 
   python3 bench/main_job_compare.py --earlier out/bench/before/descent --earlier-name 2ef1328
+
+--set KEY=VALUE (repeatable) passes scene keys to both builds (another mesh,
+method or accuracy); the report names them.
 """
 import argparse
 import re
@@ -20,9 +23,11 @@ ROOT = Path(__file__).resolve().parent.parent
 WORK = ROOT / "out" / "bench" / "main_job_compare"
 
 
-def ms_per_frame(binary, ranks, frames):
+def ms_per_frame(binary, ranks, frames, keys):
     cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none", str(binary), "run", "--overwrite",
            "--out", str(WORK), "--set", f"time.frames={frames}", "--set", f"output.every={frames + 1}"]
+    for key in keys:
+        cmd += ["--set", key]
     text, shown = run_command(cmd, ROOT, mpi_env())
     found = re.search(r"([0-9.]+) ms/frame", text)
     if not found:
@@ -38,6 +43,8 @@ def main():
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--frames", type=int, default=20)
     parser.add_argument("--configs", nargs="+", type=int, default=[1, 2], help="rank counts (1 thread each)")
+    parser.add_argument("--set", dest="keys", action="append", default=[], metavar="KEY=VALUE",
+                        help="a scene key for both builds (repeatable)")
     parser.add_argument("--output", default=ROOT / "bench/results/main_job_compare.md")
     args = parser.parse_args()
     WORK.mkdir(parents=True, exist_ok=True)
@@ -45,8 +52,8 @@ def main():
     for ranks in args.configs:
         now, earlier = [], []
         for run in range(args.runs):
-            earlier.append(ms_per_frame(args.earlier, ranks, args.frames)[0])
-            ms, command = ms_per_frame(args.binary, ranks, args.frames)
+            earlier.append(ms_per_frame(args.earlier, ranks, args.frames, args.keys)[0])
+            ms, command = ms_per_frame(args.binary, ranks, args.frames, args.keys)
             now.append(ms)
             print(f"{ranks} rank(s) run {run + 1}/{args.runs}: {ms:.1f} ms/frame (earlier {earlier[-1]:.1f})",
                   flush=True)
@@ -58,8 +65,9 @@ def main():
         f"- command (last run; ranks and binary varied): `{command}`",
         f"- earlier build: {args.earlier_name} (`{str(args.earlier).replace(f'{ROOT}/', '')}`), run alternately "
         "with this build's",
-        f"- figure: the run's own ms/frame over {args.frames} frames of jobs/helix.toml (82K helix, accuracy 1e-2), "
-        f"median of {args.runs} runs; 1 OpenMP thread per rank",
+        f"- figure: the run's own ms/frame over {args.frames} frames of jobs/helix.toml (82K helix, accuracy 1e-2"
+        + (f"; with {', '.join(f'`{k}`' for k in args.keys)}" if args.keys else "")
+        + f"), median of {args.runs} runs; 1 OpenMP thread per rank",
         "",
         "| ranks | earlier ms/frame | this build ms/frame | speed-up | samples earlier | samples this build |",
         "| --- | --- | --- | --- | --- | --- |",

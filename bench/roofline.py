@@ -58,29 +58,30 @@ CHECK_INTERVAL = 8  # solver.check_interval: the energy evaluated every 8 iterat
 INDEX_BYTES = 4  # index_t
 
 # BYTES: the compulsory traffic of one iteration of the CPU engine on one
-# rank (gather assembly), in bytes, as a function of the real's size s, the
-# tets T and vertices V: every array the iteration reads or writes, once
-# (a cache that keeps each tet's corners between their uses; stores counted
-# once, as the triad counts them).
+# rank with one thread (the element results added to the vertex partials in
+# tet order), in bytes, as a function of the real's size s, the tets T and
+# vertices V: every array the iteration reads or writes, once (a cache that
+# keeps each tet's corners and each vertex's partials between their uses;
+# stores counted once, as the triad counts them).
 #   element pass: 4 ids + TetRest (Dm^-1 and V: 10 reals) per tet, the
-#     positions q (3 reals per vertex), the corner gradients written (12 reals
-#     per tet); with conversion the interpolant read and written (2 reals)
-#   corner gather: CSR offsets (V + 1 ids) and corner ids (4 per tet), the
-#     12 corner reals per tet read, the partials written (3 per vertex)
+#     positions q (3 reals per vertex); with conversion the interpolant read
+#     and written (2 reals)
+#   assembly: the partials zeroed, read and written (3 reals per vertex,
+#     three times)
 #   vertex update per vertex: partials, y, q_t, force, q, q_prev, diagonal
 #     (3 reals each), mass (1 real), held flags (1 byte), q_next written (3)
-#   every M iterations: the diagonal's corners written and gathered (24 per
-#     tet), its partials (3 per vertex), the floor read and diagonal written
-#     (6 per vertex)
+#   every M iterations: the diagonal's partials zeroed, read and written
+#     (3 reals per vertex, three times), the floor read and diagonal
+#     written (6 per vertex)
 #   every check: ids, rest data and q once more, per vertex mass, y, q_t,
 #     force (10 reals) and with conversion the interpolant
 def bytes_per_iteration(s, tets, vertices, conversion):
-    element = tets * (4 * INDEX_BYTES + 10 * s + 12 * s + (2 * s if conversion else 0)) + vertices * 3 * s
-    gather = (vertices + 1) * INDEX_BYTES + tets * (4 * INDEX_BYTES + 12 * s) + vertices * 3 * s
+    element = tets * (4 * INDEX_BYTES + 10 * s + (2 * s if conversion else 0)) + vertices * 3 * s
+    assembly = vertices * 3 * s * 3
     update = vertices * (3 * s * 7 + s + 1 + 3 * s)
-    refresh = (tets * 24 * s + vertices * 9 * s) / HESSIAN_INTERVAL
+    refresh = (vertices * 3 * s * 3 + vertices * 9 * s) / HESSIAN_INTERVAL
     check = (tets * (4 * INDEX_BYTES + 10 * s + (s if conversion else 0)) + vertices * (3 * s + 10 * s)) / CHECK_INTERVAL
-    return element + gather + update + refresh + check
+    return element + assembly + update + refresh + check
 
 
 def ops_per_iteration(counts, model, tets, vertices):
@@ -93,7 +94,7 @@ def ops_per_iteration(counts, model, tets, vertices):
         diag = counts[(base, "diagonal")]
     energy = counts[(base, "converted_energy" if conversion else "energy")]
     total = {k: per_tet[k] + diag[k] / HESSIAN_INTERVAL + energy[k] / CHECK_INTERVAL for k in per_tet}
-    total["add"] += 12 + 12 / HESSIAN_INTERVAL  # the corner gather's sums
+    total["add"] += 12 + 12 / HESSIAN_INTERVAL  # the assembly's sums
     dofs_per_tet = 3 * vertices / tets
     for kernel, every in (("update", 1), ("diagonal", HESSIAN_INTERVAL), ("energy", CHECK_INTERVAL)):
         for k, v in counts[("vertex", kernel)].items():
