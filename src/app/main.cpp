@@ -122,7 +122,8 @@ int main_with_mpi(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}));
   run->add_option("--assembly", backend.assembly,
                   "Chebyshev engine: element results to vertices by gather (deterministic, "
-                  "default) or scatter (atomics)")
+                  "default; one thread per rank adds them in tet order, the same sums) or "
+                  "scatter (atomics)")
       ->check(CLI::IsMember({"gather", "scatter"}));
   run->add_flag("--share-device", backend.share_device,
                 "Let more ranks per node than visible GPUs share them");
