@@ -2,9 +2,10 @@
 // The element pass over blocks of tets on the host: each block's corners and
 // rest data are loaded into Lanes (kernels/cpu/lanes.hpp), the model's own
 // gradient and Hessian diagonal (kernels/element.hpp) run once for the whole
-// block, and each lane's results are stored where the tet-by-tet loop puts
-// them (12 corner reals per tet; layout of kernels/loops.hpp). Bitwise the
-// tet-by-tet results (lanes.hpp says why), so every later sum is unchanged.
+// block, and each lane's results go where the tet-by-tet loop puts them
+// (12 corner reals per tet, or added to the vertex partials in tet order or
+// atomically; kernels/element_out.hpp). Bitwise the tet-by-tet results
+// (lanes.hpp says why), so every later sum is unchanged.
 //
 // Models whose stress, Hessian diagonal and stress derivative choose only
 // by select() (kernels/real_math.hpp): neo-Hookean, StVK, Mooney-Rivlin,
