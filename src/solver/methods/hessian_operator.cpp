@@ -15,7 +15,9 @@ template <class Real>
 HessianOperator<Real>::HessianOperator(LocalProblem<Real>& problem) : problem_(problem) {
   const std::size_t nt = static_cast<std::size_t>(problem.mesh().num_tets());
   const std::size_t n = 3 * static_cast<std::size_t>(problem.num_vertices());
-  corners_.resize(12 * nt);
+  // Corner values only for threads: one thread adds in tet order
+  // (LocalProblem::assemble_elements).
+  if (!HostExec().serial()) corners_.resize(12 * nt);
   diagonal_.resize(n);
   vertex_curvature_.resize(n);
   const VertexTerms<Real> terms = problem.vertex_terms();
@@ -70,22 +72,27 @@ void HessianOperator<Real>::assemble(const Real* q, bool project) {
   const TetRest<Real>* rest = problem_.rest().data();
   hessians_.resize(144 * static_cast<std::size_t>(nt));
   Real* h = hessians_.data();
-  Real* corners = corners_.data();
-  std::visit(
-      [&](const auto& model) {
+  problem_.assemble_elements(
+      corners_.data(), diagonal_.data(), [&](const loops::ElementOut<Real>& o) {
+        std::visit(
+            [&](const auto& model) {
 #pragma omp parallel for schedule(static)
-        for (index_t t = 0; t < nt; ++t) {
-          const TetCorners<Real> x = loops::tet_corners(q, tets, t);
-          Real* ht = &h[144 * static_cast<std::size_t>(t)];
-          if (project)
-            element_hessian_psd(model, rest[t], x, ht);
-          else
-            element_hessian(model, rest[t], x, ht);
-          for (int r = 0; r < 12; ++r) corners[12 * static_cast<std::size_t>(t) + r] = ht[13 * r];
-        }
-      },
-      problem_.model());
-  problem_.assemble_corners(corners, diagonal_.data());
+              for (index_t t = 0; t < nt; ++t) {
+                const TetCorners<Real> x = loops::tet_corners(q, tets, t);
+                Real* ht = &h[144 * static_cast<std::size_t>(t)];
+                if (project)
+                  element_hessian_psd(model, rest[t], x, ht);
+                else
+                  element_hessian(model, rest[t], x, ht);
+                const Vec3<Real> diagonal[4] = {{ht[0], ht[13], ht[26]},
+                                                {ht[39], ht[52], ht[65]},
+                                                {ht[78], ht[91], ht[104]},
+                                                {ht[117], ht[130], ht[143]}};
+                loops::put_corners(o, tets, t, diagonal, static_cast<const Vec3<Real>*>(nullptr));
+              }
+            },
+            problem_.model());
+      });
   const auto& fixed = problem_.fixed_axes();
   for (std::size_t dof = 0; dof < diagonal_.size(); ++dof)
     diagonal_[dof] =

@@ -52,7 +52,7 @@ class HessianOperator {
   // out += vertex terms p; out = 0 on held dofs.
   void finish(const Real* p, Real* out) const;
   LocalProblem<Real>& problem_;
-  std::vector<Real> corners_;   // 12 per tet
+  std::vector<Real> corners_;   // 12 per tet, with threads only
   std::vector<Real> hessians_;  // 144 per tet, row-major
   std::vector<Real> diagonal_;
   std::vector<Real> vertex_curvature_;  // m (1/h^2 + c/h) per dof
